@@ -13,7 +13,7 @@ PACKAGES=(
   libnanoflann-dev                    # kd-tree
   libassimp-dev libstb-dev            # scan import, images
   libcgal-dev                         # 2D constrained Delaunay meshing (GPL)
-  libopenvdb-dev                      # level sets for synthetic scans
+  libopenvdb-dev libboost-iostreams-dev  # level sets (OpenVDB's CMake module needs boost_iostreams)
   libmeshoptimizer-dev                # decimation
   libmaxflow-dev                      # graph-cut baseline
   libcairo2-dev                       # SVG/PDF/PNG drawing
