@@ -101,6 +101,23 @@ float floatAbove(double x) {
   return static_cast<double>(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::max());
 }
 
+// One Embree device for the process (Embree's advice: devices own thread pools and caches).
+// Each MeshQuery retains it, so it outlives every scene whatever the destruction order.
+RTCDevice sharedDevice() {
+  struct Holder {
+    RTCDevice device = rtcNewDevice(nullptr);
+    ~Holder() {
+      if (device) rtcReleaseDevice(device);
+    }
+  };
+  static Holder holder;
+  if (!holder.device)
+    throw Error("MeshQuery: Embree device creation failed (error " +
+                std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+  rtcRetainDevice(holder.device);
+  return holder.device;
+}
+
 }  // namespace
 
 struct MeshQuery::Impl {
@@ -169,10 +186,7 @@ MeshQuery::MeshQuery(const TriMesh& mesh, const MeshQueryOptions& options)
   // A float vertex is off by at most 2^-24 of its largest coordinate; allow 4× that.
   d.pad = 4.0 * std::ldexp(mesh.V.cwiseAbs().maxCoeff(), -24);
 
-  d.device = rtcNewDevice(nullptr);
-  if (!d.device)
-    throw Error("MeshQuery: Embree device creation failed (error " +
-                std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+  d.device = sharedDevice();
   d.scene = rtcNewScene(d.device);
   rtcSetSceneFlags(d.scene, RTC_SCENE_FLAG_ROBUST);  // watertight edges for ray casting
   RTCGeometry geom = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <thread>
 
 #include "core/error.h"
 #include "core/shapes.h"
@@ -211,6 +212,42 @@ TEST(MeshQuery, FastWindingNumberAgreesWithBruteForce) {
     }
     EXPECT_LT(maxErr, 1e-3);
   }
+}
+
+TEST(MeshQuery, EveryExpansionOrderClassifiesAndConverges) {
+  const TriMesh open = cutByPlane(makeIcosphere(4, 1.0), Eigen::Vector3d(0, 1, 0), 0.7);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  Eigen::MatrixX3d P(200, 3);
+  for (int i = 0; i < P.rows(); ++i) P.row(i) << u(rng), u(rng), u(rng);
+  Eigen::VectorXd exact(P.rows());
+  for (int i = 0; i < P.rows(); ++i) exact(i) = windingNumberBruteForce(open, P.row(i).transpose());
+  for (int order = 1; order <= 3; ++order) {
+    double previous = std::numeric_limits<double>::infinity();
+    for (double beta : {2.0, 4.0, 8.0}) {
+      const WindingNumberTree tree(open, beta, order);
+      double maxErr = 0;
+      for (int i = 0; i < P.rows(); ++i)
+        maxErr = std::max(maxErr, std::abs(tree.evaluate(P.row(i).transpose()) - exact(i)));
+      EXPECT_LT(maxErr, 0.1) << "order " << order << " beta " << beta;       // never misclassifies
+      EXPECT_LT(maxErr, previous) << "order " << order << " beta " << beta;  // converges in β
+      previous = maxErr;
+    }
+    EXPECT_LT(previous, order == 3 ? 1e-4 : 5e-3) << "order " << order << " at beta 8";
+  }
+  EXPECT_THROW(WindingNumberTree(open, 2.0, 4), InputError);
+}
+
+TEST(MeshQuery, ConcurrentFirstQueriesShareOneTree) {
+  const TriMesh sphere = makeIcosphere(3, 1.0);
+  const MeshQuery query(sphere);
+  const Eigen::Vector3d p(0.2, 0.1, -0.3);
+  std::vector<double> w(4);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) threads.emplace_back([&, t] { w[t] = query.windingNumber(p); });
+  for (std::thread& t : threads) t.join();
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(w[t], w[0]);
+  EXPECT_NEAR(w[0], 1.0, 1e-3);
 }
 
 TEST(MeshQuery, WindingNumberSeparatesInsideFromOutsideThroughAHole) {
