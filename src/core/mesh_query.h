@@ -39,7 +39,8 @@ class MeshQuery {
  public:
   // Copies what the queries need (the mesh may be 1M triangles) and builds the Embree BVH.
   // The winding-number tree is built on the first winding-number query. Throws InputError for
-  // an empty or invalid mesh.
+  // an empty or invalid mesh. Movable, not copyable; a moved-from MeshQuery may only be
+  // destroyed or assigned to.
   explicit MeshQuery(const TriMesh& mesh, const MeshQueryOptions& options = {});
   ~MeshQuery();
   MeshQuery(MeshQuery&&) noexcept;

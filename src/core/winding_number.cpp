@@ -1,6 +1,9 @@
 #include "core/winding_number.h"
 
 #include <Eigen/Geometry>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -61,7 +64,11 @@ WindingNumberTree::WindingNumberTree(const TriMesh& mesh, double beta, int order
   for (int i = 0; i < nf; ++i) F_.row(i) = mesh.F.row(faceOrder[i]);
   if (order_ >= 2) first_.resize(nodes_.size());
   if (order_ >= 3) second_.resize(nodes_.size());
-  for (int n = 0; n < static_cast<int>(nodes_.size()); ++n) computeMoments(n);
+  // Nodes are independent given the face order: moments in parallel, each node writes its own.
+  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(nodes_.size()), 256),
+                    [&](const tbb::blocked_range<int>& r) {
+                      for (int n = r.begin(); n != r.end(); ++n) computeMoments(n);
+                    });
 }
 
 // Median split along the longest axis of the centroids' bounding box.
