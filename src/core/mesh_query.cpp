@@ -1,10 +1,10 @@
 #include "core/mesh_query.h"
 
+#include <Eigen/Geometry>
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <mutex>
