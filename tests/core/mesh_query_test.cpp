@@ -61,22 +61,47 @@ void expectConsistent(const TriMesh& m, int face, const Eigen::Vector3d& bary,
   EXPECT_LT((rebuilt - point).norm(), 1e-12);
 }
 
-// Largest gap between the unit icosphere of this level and its triangles (sagitta), bounded.
-constexpr double kSphereTol = 3e-3;  // level 4: measured gap ≈ 1e-3
+// Tolerance for "on the sphere" at icosphere level 4: bounds the chord gap checked below.
+constexpr double kSphereTol = 3e-3;
+
+// Largest distance between a sphere of radius r and the planes of its icosphere's faces.
+double chordGap(const TriMesh& sphere, double r) {
+  double gap = 0;
+  for (int f = 0; f < sphere.numFaces(); ++f) {
+    const Eigen::Vector3d a = corner(sphere, f, 0), b = corner(sphere, f, 1),
+                          c = corner(sphere, f, 2);
+    gap = std::max(gap, r - std::abs((b - a).cross(c - a).normalized().dot(a)));
+  }
+  return gap;
+}
+
+TEST(MeshQuery, SphereToleranceBoundsTheChordGap) {
+  EXPECT_LT(chordGap(makeIcosphere(4, 1.0), 1.0), kSphereTol);
+  EXPECT_LT(chordGap(makeIcosphere(4, 2.0), 2.0), 2.0 * kSphereTol);
+}
 
 // === Closest point
 
 TEST(MeshQuery, ClosestPointOnSphereInsideAndOutside) {
   const TriMesh sphere = makeIcosphere(4, 1.0);
+  const double gap = chordGap(sphere, 1.0);
   const MeshQuery query(sphere);
   std::mt19937 rng(1);
   for (double r : {0.3, 2.5}) {
     for (int i = 0; i < 100; ++i) {
       const Eigen::Vector3d p = r * randomDirection(rng);
       const ClosestHit hit = query.closestPoint(p);
-      EXPECT_NEAR(hit.distance, std::abs(r - 1.0), kSphereTol);
-      EXPECT_NEAR(hit.point.norm(), 1.0, kSphereTol);  // on the surface
-      EXPECT_LE(hit.point.norm(), 1.0 + 1e-12);        // chords lie inside the sphere
+      // The mesh lies between radii 1 − gap and 1: inside, d ∈ [1 − r − gap, 1 − r]; outside,
+      // d ∈ [r − 1, r − 1 + gap].
+      if (r < 1) {
+        EXPECT_LE(hit.distance, 1.0 - r + 1e-12);
+        EXPECT_GE(hit.distance, 1.0 - r - gap);
+      } else {
+        EXPECT_GE(hit.distance, r - 1.0 - 1e-12);
+        EXPECT_LE(hit.distance, r - 1.0 + gap);
+      }
+      EXPECT_GE(hit.point.norm(), 1.0 - gap);    // on the surface
+      EXPECT_LE(hit.point.norm(), 1.0 + 1e-12);  // chords lie inside the sphere
       EXPECT_NEAR((hit.point - p).norm(), hit.distance, 1e-12);
       expectConsistent(sphere, hit.face, hit.bary, hit.point);
     }
