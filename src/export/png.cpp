@@ -27,8 +27,10 @@ png_image emptyPngImage() {
 // A fresh name beside `path`, so that the final rename stays on one file system.
 std::filesystem::path temporaryPath(const std::filesystem::path& path) {
   static std::atomic<unsigned> counter{0};
-  return path.parent_path() / ("." + path.filename().string() + ".tmp" +
-                               std::to_string(getpid()) + "_" + std::to_string(counter++));
+  std::string name = path.filename().string();
+  name.append(".tmp").append(std::to_string(getpid())).append("_");
+  name.append(std::to_string(counter++));
+  return path.parent_path() / name.insert(0, 1, '.');
 }
 
 }  // namespace
