@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "export/bitmap_text.h"
 
 namespace s2p {
 namespace {
@@ -106,6 +107,9 @@ void validateScene(const Scene& scene, const RenderOptions& o) {
                      "; use 0 (automatic) to 65536");
   if (!(o.overlayDepthBias >= 0 && o.overlayDepthBias <= 1))
     throw InputError("renderScene: overlayDepthBias must be in [0, 1]");
+  if (!o.captions.empty() && o.captions.size() != o.views.size())
+    throw InputError("renderScene: " + std::to_string(o.captions.size()) + " captions for " +
+                     std::to_string(o.views.size()) + " views; give one per view or none");
   for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
     const SceneMesh& m = scene.meshes[i];
     const std::string name = "renderScene: mesh " + std::to_string(i);
@@ -438,6 +442,22 @@ void downsample(const Target& t, int ss, int x0, Image& image) {
   });
 }
 
+// Caption centred in the top margin of a panel: as large as the margin allows (up to 1/200 of
+// the height per font pixel), shortened if it does not fit the panel's width even at scale 1.
+void drawCaption(const std::string& caption, const ViewPanel& panel, int marginPx, Rgb background,
+                 Image& image) {
+  if (caption.empty()) return;
+  int scale = std::max(1, std::min(image.height / 200, (marginPx - 2) / 7));
+  while (scale > 1 && textWidth(caption, scale) > panel.width - 2) --scale;
+  std::string text = caption;
+  while (!text.empty() && textWidth(text, scale) > panel.width - 2) text.pop_back();
+  const int luminance = 299 * background.r + 587 * background.g + 114 * background.b;
+  const Rgb ink = luminance > 128 * 1000 ? Rgb{40, 40, 40} : Rgb{230, 230, 230};
+  const int x = panel.x0 + (panel.width - textWidth(text, scale)) / 2;
+  const int y = std::max(1, (marginPx - textHeight(scale)) / 2);
+  drawText(image, x, y, text, scale, ink);
+}
+
 }  // namespace
 
 // === Views
@@ -577,6 +597,8 @@ Image renderScene(const Scene& scene, const RenderOptions& options,
     drawLines(scene, frame, true, bias, ss, target);
     drawPoints(scene, frame, true, bias, ss, target);
     downsample(target, ss, panel.x0, image);
+    if (!options.captions.empty())
+      drawCaption(options.captions[v], panel, marginPx, options.background, image);
   }
   if (panels != nullptr) *panels = std::move(layout);
   return image;

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -47,7 +48,7 @@ Eigen::Matrix3d viewRotation(View view);
 
 // A curve drawn over the surfaces, e.g. a seam or a boundary on the scan.
 struct Polyline {
-  Eigen::MatrixX3d points;  // #P×3, metres
+  Eigen::MatrixX3d points{};  // #P×3, metres
   Rgb colour{220, 30, 30};
   float widthPx = 2;      // in output pixels (round caps and joins)
   bool closed = false;    // also draw the segment from the last point back to the first
@@ -56,7 +57,7 @@ struct Polyline {
 
 // Dots drawn over the surfaces, e.g. feature points.
 struct PointSet {
-  Eigen::MatrixX3d points;  // #P×3, metres
+  Eigen::MatrixX3d points{};  // #P×3, metres
   Rgb colour{30, 30, 220};
   float radiusPx = 4;     // in output pixels
   bool onTop = false;     // drawn without depth test (always visible)
@@ -90,6 +91,9 @@ struct RenderOptions {
   // fraction of the scene's largest extent, plus their own half width: curves ON a surface are
   // not lost to z-fighting while curves behind the body stay hidden.
   double overlayDepthBias = 0.01;
+  // One caption per view (or none at all), centred in the panel's top margin in a small built-in
+  // font (bitmap_text.h), e.g. toString(view); an empty string leaves that view blank.
+  std::vector<std::string> captions{};
 };
 
 // Where each view landed in the image.

@@ -328,6 +328,30 @@ TEST(Preview, SemiTransparentMeshBlendsOverTheOpaqueOne) {
   EXPECT_GT(mix.b, 40);
 }
 
+TEST(Preview, CaptionsAreDrawnCentredInTheTopMargin) {
+  const TriMesh sphere = makeIcosphere(2);
+  Scene scene;
+  scene.meshes.push_back({.mesh = &sphere});
+  // Height 400: 20 px margin, font scale 2; a dash is 5×1 font pixels.
+  std::vector<ViewPanel> panels;
+  const Image im = renderScene(
+      scene, {.views = {View::Front, View::Back}, .heightPx = 400, .captions = {"-", ""}}, &panels);
+  const Image plain = renderScene(scene, {.views = {View::Front, View::Back}, .heightPx = 400});
+  int changed = 0, minX = im.width, maxX = -1;
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x)
+      if (!(pixel(im, x, y) == pixel(plain, x, y))) {
+        ++changed;
+        EXPECT_EQ(pixel(im, x, y), (Rgb{40, 40, 40}));
+        EXPECT_LT(y, 20);
+        minX = std::min(minX, x);
+        maxX = std::max(maxX, x);
+      }
+  EXPECT_EQ(changed, 5 * 2 * 2);
+  EXPECT_EQ(minX + maxX + 1, panels[0].width - (panels[0].width - 10) % 2);  // centred
+  EXPECT_THROW(renderScene(scene, {.heightPx = 400, .captions = {"a", "b"}}), InputError);
+}
+
 TEST(Preview, RenderingIsDeterministic) {
   const TriMesh sphere = makeIcosphere(4);
   Scene scene;
