@@ -14,7 +14,9 @@ struct Rgb;
 // Width in pixels of `text` at an integer scale (each glyph cell is 6·scale wide, 7·scale tall
 // plus nothing below: the font has no descenders).
 int textWidth(std::string_view text, int scale);
-constexpr int textHeight(int scale) { return 7 * scale; }
+constexpr int textHeight(int scale) {
+  return 7 * scale;
+}
 
 // Draws `text` with its top-left corner at (x, y); pixels outside the image are clipped.
 void drawText(Image& image, int x, int y, std::string_view text, int scale, const Rgb& colour);

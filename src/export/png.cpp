@@ -51,12 +51,10 @@ void writePng(const std::filesystem::path& path, const Image& image) {
   png.format = PNG_FORMAT_RGB;
   png_alloc_size_t bytes = 0;
   if (!png_image_write_to_memory(&png, nullptr, &bytes, 0, image.rgb.data(), 0, nullptr))
-    throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " +
-                  png.message);
+    throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " + png.message);
   std::string encoded(bytes, '\0');
   if (!png_image_write_to_memory(&png, encoded.data(), &bytes, 0, image.rgb.data(), 0, nullptr))
-    throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " +
-                  png.message);
+    throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " + png.message);
   encoded.resize(bytes);
 
   const std::filesystem::path tmp = temporaryPath(path);
@@ -95,8 +93,8 @@ Image readPng(const std::filesystem::path& path) {
   }
   if (static_cast<long long>(png.width) * png.height > kMaxPixels) {
     png_image_free(&png);
-    throw FormatError("readPng " + path.string() + ": image of " + std::to_string(png.width) +
-                      "x" + std::to_string(png.height) + " pixels is too large");
+    throw FormatError("readPng " + path.string() + ": image of " + std::to_string(png.width) + "x" +
+                      std::to_string(png.height) + " pixels is too large");
   }
   png.format = PNG_FORMAT_RGB;
   Image image;

@@ -18,7 +18,7 @@ namespace s2p {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr int kBandRows = 16;               // sample rows per parallel task
+constexpr int kBandRows = 16;                 // sample rows per parallel task
 constexpr long long kMaxSamples = 1LL << 26;  // per view: ~1.3 GB of buffers at most
 // Lighting in camera space (x right, y up, z towards the camera). The key light sits above the
 // camera so that a symmetric object renders symmetric.
@@ -29,13 +29,17 @@ const Eigen::Vector3f kKeyLight = Eigen::Vector3f(0.0f, 0.5f, 1.0f).normalized()
 // Barycentric tolerance so that samples on a shared edge are never missed by both triangles.
 constexpr double kEdgeEps = 1e-7;
 
-Eigen::Vector3f toUnit(Rgb c) { return Eigen::Vector3f(c.r, c.g, c.b) / 255.0f; }
+Eigen::Vector3f toUnit(Rgb c) {
+  return Eigen::Vector3f(c.r, c.g, c.b) / 255.0f;
+}
 
 std::uint8_t toByte(float v) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
 }
 
-bool allFinite(const Eigen::MatrixX3d& M) { return M.allFinite(); }
+bool allFinite(const Eigen::MatrixX3d& M) {
+  return M.allFinite();
+}
 
 // === Framing
 
@@ -117,8 +121,8 @@ void validateScene(const Scene& scene, const RenderOptions& o) {
     if (m.mesh->numFaces() > 0) validateMesh(*m.mesh, name);
     if (m.colour != nullptr) {
       if (m.colour->rows() != m.mesh->V.rows())
-        throw InputError(name + " has " + std::to_string(m.colour->rows()) +
-                         " colour rows for " + std::to_string(m.mesh->V.rows()) +
+        throw InputError(name + " has " + std::to_string(m.colour->rows()) + " colour rows for " +
+                         std::to_string(m.mesh->V.rows()) +
                          " vertices; pass one sRGB row per vertex or no colour");
       if (!allFinite(*m.colour)) throw InputError(name + " has non-finite vertex colours");
     }
@@ -129,17 +133,17 @@ void validateScene(const Scene& scene, const RenderOptions& o) {
     const Polyline& l = scene.lines[i];
     if (!allFinite(l.points))
       throw InputError("renderScene: polyline " + std::to_string(i) + " has non-finite points");
-    if (!(l.widthPx > 0 && l.widthPx <= 256))
+    if (!(l.widthPx > 0 && l.widthPx <= 64))
       throw InputError("renderScene: polyline " + std::to_string(i) + " has width " +
-                       std::to_string(l.widthPx) + " px; use (0, 256]");
+                       std::to_string(l.widthPx) + " px; use (0, 64]");
   }
   for (std::size_t i = 0; i < scene.points.size(); ++i) {
     const PointSet& p = scene.points[i];
     if (!allFinite(p.points))
       throw InputError("renderScene: point set " + std::to_string(i) + " has non-finite points");
-    if (!(p.radiusPx > 0 && p.radiusPx <= 256))
+    if (!(p.radiusPx > 0 && p.radiusPx <= 64))
       throw InputError("renderScene: point set " + std::to_string(i) + " has radius " +
-                       std::to_string(p.radiusPx) + " px; use (0, 256]");
+                       std::to_string(p.radiusPx) + " px; use (0, 64]");
   }
 }
 
@@ -163,9 +167,8 @@ struct Target {
 // Calls frag(x, y, ba, bb, bc) for every sample centre (x + ½, y + ½) inside triangle abc with
 // rows in [rowBegin, rowEnd); ba, bb, bc are its barycentric coordinates.
 template <class Fragment>
-void rasteriseTriangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b,
-                       const Eigen::Vector3f& c, int width, int rowBegin, int rowEnd,
-                       Fragment&& frag) {
+void rasteriseTriangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+                       int width, int rowBegin, int rowEnd, Fragment&& frag) {
   const double area = (double(b.x()) - a.x()) * (double(c.y()) - a.y()) -
                       (double(b.y()) - a.y()) * (double(c.x()) - a.x());
   if (!(std::abs(area) > 1e-12)) return;
@@ -252,8 +255,8 @@ Eigen::Vector3f shade(Eigen::Vector3f n, bool backFacing, const Eigen::Vector3f&
   const float len = n.norm();
   n = len > 0 ? Eigen::Vector3f(n / len) : Eigen::Vector3f(0, 0, 1);
   if (backFacing) n = -n;  // the inside of an open surface is lit like its outside
-  const float intensity = kAmbient + kKey * std::max(0.0f, n.dot(kKeyLight)) +
-                          kHead * std::max(0.0f, n.z());
+  const float intensity =
+      kAmbient + kKey * std::max(0.0f, n.dot(kKeyLight)) + kHead * std::max(0.0f, n.z());
   return (albedo * intensity).cwiseMin(1.0f);
 }
 
@@ -313,24 +316,24 @@ void drawMesh(const ProjectedMesh& pm, int w, int h, Fragment&& frag) {
         const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
         const Eigen::Vector3f &a = pm.p[ia], &b = pm.p[ib], &c = pm.p[ic];
         // Counter-clockwise in camera space (y up) is clockwise in sample space (y down).
-        const bool backFacing = (b.x() - a.x()) * (c.y() - a.y()) -
-                                    (b.y() - a.y()) * (c.x() - a.x()) > 0;
-        rasteriseTriangle(a, b, c, w, rowBegin, rowEnd, [&](int x, int y, float wa, float wb,
-                                                            float wc) {
-          const std::size_t i = std::size_t(y) * w + x;
-          const float z = wa * a.z() + wb * b.z() + wc * c.z();
-          frag(i, z, [&]() {
-            const Eigen::Vector3f n = pm.smooth ? Eigen::Vector3f(wa * pm.normal[ia] +
-                                                                  wb * pm.normal[ib] +
-                                                                  wc * pm.normal[ic])
-                                                : pm.normal[f];
-            const Eigen::Vector3f albedo =
-                pm.albedo.empty()
-                    ? pm.flat
-                    : Eigen::Vector3f(wa * pm.albedo[ia] + wb * pm.albedo[ib] + wc * pm.albedo[ic]);
-            return shade(n, backFacing, albedo);
-          });
-        });
+        const bool backFacing =
+            (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()) > 0;
+        rasteriseTriangle(
+            a, b, c, w, rowBegin, rowEnd, [&](int x, int y, float wa, float wb, float wc) {
+              const std::size_t i = std::size_t(y) * w + x;
+              const float z = wa * a.z() + wb * b.z() + wc * c.z();
+              frag(i, z, [&]() {
+                const Eigen::Vector3f n =
+                    pm.smooth ? Eigen::Vector3f(wa * pm.normal[ia] + wb * pm.normal[ib] +
+                                                wc * pm.normal[ic])
+                              : pm.normal[f];
+                const Eigen::Vector3f albedo =
+                    pm.albedo.empty() ? pm.flat
+                                      : Eigen::Vector3f(wa * pm.albedo[ia] + wb * pm.albedo[ib] +
+                                                        wc * pm.albedo[ic]);
+                return shade(n, backFacing, albedo);
+              });
+            });
       }
     }
   });
@@ -476,11 +479,16 @@ std::optional<View> parseView(std::string_view name) {
 
 const char* toString(View view) {
   switch (view) {
-    case View::Front: return "front";
-    case View::Back: return "back";
-    case View::Left: return "left";
-    case View::Right: return "right";
-    case View::ThreeQuarter: return "three-quarter";
+    case View::Front:
+      return "front";
+    case View::Back:
+      return "back";
+    case View::Left:
+      return "left";
+    case View::Right:
+      return "right";
+    case View::ThreeQuarter:
+      return "three-quarter";
   }
   return "front";
 }
@@ -490,11 +498,21 @@ Eigen::Matrix3d viewRotation(View view) {
   const double h = std::numbers::sqrt2 / 2;
   Eigen::Matrix3d R;
   switch (view) {
-    case View::Front: R << 1, 0, 0, 0, 1, 0, 0, 0, 1; break;
-    case View::Back: R << -1, 0, 0, 0, 1, 0, 0, 0, -1; break;
-    case View::Left: R << 0, 0, -1, 0, 1, 0, 1, 0, 0; break;
-    case View::Right: R << 0, 0, 1, 0, 1, 0, -1, 0, 0; break;
-    case View::ThreeQuarter: R << h, 0, -h, 0, 1, 0, h, 0, h; break;
+    case View::Front:
+      R << 1, 0, 0, 0, 1, 0, 0, 0, 1;
+      break;
+    case View::Back:
+      R << -1, 0, 0, 0, 1, 0, 0, 0, -1;
+      break;
+    case View::Left:
+      R << 0, 0, -1, 0, 1, 0, 1, 0, 0;
+      break;
+    case View::Right:
+      R << 0, 0, 1, 0, 1, 0, -1, 0, 0;
+      break;
+    case View::ThreeQuarter:
+      R << h, 0, -h, 0, 1, 0, h, 0, h;
+      break;
   }
   return R;
 }
@@ -527,6 +545,8 @@ Image renderScene(const Scene& scene, const RenderOptions& options,
     extX = std::max(extX, e.x());
     extY = std::max(extY, e.y());
   }
+  if (!(extX <= 1e9 && extY <= 1e9))
+    throw InputError("renderScene: the scene spans more than 1e9 units; check the coordinates");
   double ppm = std::numeric_limits<double>::infinity();  // pixels per metre
   if (extY > 0) ppm = std::max(1.0, H - 2.0 * marginPx) / extY;
   if (extX > 0) ppm = std::min(ppm, std::max(1.0, maxWidth - 2.0 * marginPx) / extX);

@@ -50,22 +50,22 @@ Eigen::Matrix3d viewRotation(View view);
 struct Polyline {
   Eigen::MatrixX3d points{};  // #P×3, metres
   Rgb colour{220, 30, 30};
-  float widthPx = 2;      // in output pixels (round caps and joins)
-  bool closed = false;    // also draw the segment from the last point back to the first
-  bool onTop = false;     // drawn without depth test (always visible)
+  float widthPx = 2;    // in output pixels, (0, 64] (round caps and joins)
+  bool closed = false;  // also draw the segment from the last point back to the first
+  bool onTop = false;   // drawn without depth test (always visible)
 };
 
 // Dots drawn over the surfaces, e.g. feature points.
 struct PointSet {
   Eigen::MatrixX3d points{};  // #P×3, metres
   Rgb colour{30, 30, 220};
-  float radiusPx = 4;     // in output pixels
-  bool onTop = false;     // drawn without depth test (always visible)
+  float radiusPx = 4;  // in output pixels, (0, 64]
+  bool onTop = false;  // drawn without depth test (always visible)
 };
 
 struct SceneMesh {
-  const TriMesh* mesh = nullptr;                // not owned; must outlive renderScene
-  const Eigen::MatrixX3d* colour = nullptr;    // #V×3 sRGB in [0, 1]; nullptr: flatColour
+  const TriMesh* mesh = nullptr;             // not owned; must outlive renderScene
+  const Eigen::MatrixX3d* colour = nullptr;  // #V×3 sRGB in [0, 1]; nullptr: flatColour
   Rgb flatColour{200, 200, 200};
   // In [0, 1]. Below 1 the mesh is blended over everything drawn before it (opaque meshes and
   // curves behind it), showing its own nearest surface only, e.g. a scan over the fitted body.
@@ -84,9 +84,9 @@ struct RenderOptions {
   int heightPx = 1024;                   // output height, in [8, 16384]
   int supersample = 2;                   // samples per pixel along each axis, in [1, 8]
   Rgb background{255, 255, 255};
-  double margin = 0.05;       // free border on each side, as a fraction of heightPx, in [0, 0.45]
-  int gapPx = 16;             // background columns between two views
-  int maxViewWidthPx = 0;     // widest panel allowed (very wide content is scaled down); 0: 4·heightPx
+  double margin = 0.05;    // free border on each side, as a fraction of heightPx, in [0, 0.45]
+  int gapPx = 16;          // background columns between two views
+  int maxViewWidthPx = 0;  // widest panel allowed (very wide content is scaled down); 0: 4·heightPx
   // Curves and points (not onTop) stay visible when at most this far behind the surface, as a
   // fraction of the scene's largest extent, plus their own half width: curves ON a surface are
   // not lost to z-fighting while curves behind the body stay hidden.
@@ -99,19 +99,18 @@ struct RenderOptions {
 // Where each view landed in the image.
 struct ViewPanel {
   View view = View::Front;
-  int x0 = 0;                  // first column of the panel
-  int width = 0;               // panel width in pixels (panel height is the image height)
-  double pixelsPerMetre = 0;   // same for every panel of an image
+  int x0 = 0;                 // first column of the panel
+  int width = 0;              // panel width in pixels (panel height is the image height)
+  double pixelsPerMetre = 0;  // same for every panel of an image
   // Camera-space point (image right, image up; metres) drawn at the panel's centre.
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
 };
 
-// Renders the scene, views side by side. A scene with nothing to draw gives square background
-// panels. Throws InputError on bad options or geometry (null mesh, wrong colour rows, non-finite
+// Renders the scene, views side by side. Meshes without faces are ignored; a scene with nothing
+// to draw gives square background panels. Throws InputError on bad options or geometry (null mesh, wrong colour rows, non-finite
 // coordinates, out-of-range sizes). Deterministic: the same input gives the same bytes.
 Image renderScene(const Scene& scene, const RenderOptions& options);
 // Same, and reports the panel of each view (in the order of options.views).
-Image renderScene(const Scene& scene, const RenderOptions& options,
-                  std::vector<ViewPanel>* panels);
+Image renderScene(const Scene& scene, const RenderOptions& options, std::vector<ViewPanel>* panels);
 
 }  // namespace s2p

@@ -16,10 +16,16 @@ Rgb pixel(const Image& im, int x, int y) {
   return {im.rgb[i], im.rgb[i + 1], im.rgb[i + 2]};
 }
 
-int brightness(Rgb c) { return c.r + c.g + c.b; }
+int brightness(Rgb c) {
+  return c.r + c.g + c.b;
+}
 
-bool isRed(Rgb c) { return c.r > 150 && c.g < 60 && c.b < 60; }
-bool isBlue(Rgb c) { return c.b > 150 && c.r < 60 && c.g < 60; }
+bool isRed(Rgb c) {
+  return c.r > 150 && c.g < 60 && c.b < 60;
+}
+bool isBlue(Rgb c) {
+  return c.b > 150 && c.r < 60 && c.g < 60;
+}
 
 // Pixels of panel `p` satisfying `pred`.
 template <class Pred>
@@ -136,7 +142,8 @@ TEST(Preview, SphereRendersAsASymmetricLambertDisc) {
   int bad = 0;
   for (int y = 0; y < im.height; ++y)
     for (int x = 0; x < im.width / 2; ++x) {
-      const int d = std::abs(brightness(pixel(im, x, y)) - brightness(pixel(im, im.width - 1 - x, y)));
+      const int d =
+          std::abs(brightness(pixel(im, x, y)) - brightness(pixel(im, im.width - 1 - x, y)));
       sumDiff += d;
       bad += d > 24 ? 1 : 0;
     }
@@ -159,7 +166,9 @@ TEST(Preview, ViewConventionsPutTheColouredHalvesOnTheRightSide) {
   ASSERT_EQ(panels.size(), 4u);
   const int cy = im.height / 2;
   const int q = static_cast<int>(0.5 * panels[0].pixelsPerMetre);  // half a radius
-  auto at = [&](int view, int dx) { return pixel(im, panels[view].x0 + panels[view].width / 2 + dx, cy); };
+  auto at = [&](int view, int dx) {
+    return pixel(im, panels[view].x0 + panels[view].width / 2 + dx, cy);
+  };
   // Front: camera on +Z, +X on the image's right → red (−X) on the left.
   EXPECT_TRUE(isRed(at(0, -q)));
   EXPECT_TRUE(isBlue(at(0, q)));
@@ -208,7 +217,7 @@ TEST(Preview, CurveOnTheEquatorIsHiddenWhereItPassesBehind) {
   const double pi = std::numbers::pi;
   Scene scene;
   scene.meshes.push_back({.mesh = &sphere});
-  scene.lines.push_back({.points = arc(0.2, pi - 0.2), .colour = {255, 0, 0}});       // z > 0
+  scene.lines.push_back({.points = arc(0.2, pi - 0.2), .colour = {255, 0, 0}});           // z > 0
   scene.lines.push_back({.points = arc(pi + 0.2, 2 * pi - 0.2), .colour = {0, 0, 255}});  // z < 0
   std::vector<ViewPanel> panels;
   const Image im =
@@ -291,8 +300,10 @@ TEST(Preview, ViewsShareOneScaleAndAreLaidOutWithGaps) {
   const TriMesh box = makeBox(1.0, 2.0, 0.4);
   Scene scene;
   scene.meshes.push_back({.mesh = &box});
-  RenderOptions options{.views = {View::Front, View::Left, View::Back}, .heightPx = 128,
-                        .background = {0, 64, 0}, .gapPx = 10};
+  RenderOptions options{.views = {View::Front, View::Left, View::Back},
+                        .heightPx = 128,
+                        .background = {0, 64, 0},
+                        .gapPx = 10};
   std::vector<ViewPanel> panels;
   const Image im = renderScene(scene, options, &panels);
   const int margin = static_cast<int>(std::lround(0.05 * 128));
@@ -361,11 +372,13 @@ TEST(Preview, RenderingIsDeterministic) {
 }
 
 TEST(Preview, EmptySceneGivesBackgroundPanels) {
-  const Image im = renderScene(Scene{}, {.views = {View::Front, View::Back}, .heightPx = 64,
-                                         .background = {1, 2, 3}, .gapPx = 4});
+  const Image im = renderScene(
+      Scene{},
+      {.views = {View::Front, View::Back}, .heightPx = 64, .background = {1, 2, 3}, .gapPx = 4});
   EXPECT_EQ(im.height, 64);
   EXPECT_EQ(im.width, 64 + 4 + 64);
-  for (int i = 0; i < im.width * im.height; ++i) ASSERT_EQ(pixel(im, i % im.width, i / im.width), (Rgb{1, 2, 3}));
+  for (int i = 0; i < im.width * im.height; ++i)
+    ASSERT_EQ(pixel(im, i % im.width, i / im.width), (Rgb{1, 2, 3}));
 }
 
 TEST(Preview, BadInputThrowsInputError) {
@@ -395,6 +408,9 @@ TEST(Preview, BadInputThrowsInputError) {
   Scene zeroWidth = ok;
   zeroWidth.lines.push_back({.points = Eigen::MatrixX3d::Zero(2, 3), .widthPx = 0});
   EXPECT_THROW(renderScene(zeroWidth, {}), InputError);
+  Scene far = ok;
+  far.points.push_back({.points = Eigen::MatrixX3d::Constant(1, 3, 1e300)});
+  EXPECT_THROW(renderScene(far, {}), InputError);
   Scene badOpacity = ok;
   badOpacity.meshes[0].opacity = 2.0f;
   EXPECT_THROW(renderScene(badOpacity, {}), InputError);
