@@ -311,30 +311,34 @@ void drawMesh(const ProjectedMesh& pm, int w, int h, Fragment&& frag) {
   tbb::parallel_for(tbb::blocked_range<int>(0, nBands, 1), [&](auto r) {
     for (int band = r.begin(); band != r.end(); ++band) {
       const int rowBegin = band * kBandRows, rowEnd = std::min(h, rowBegin + kBandRows);
-      for (int t = bins.start[band]; t < bins.start[band + 1]; ++t) {
-        const int f = bins.tris[t];
-        const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
-        const Eigen::Vector3f &a = pm.p[ia], &b = pm.p[ib], &c = pm.p[ic];
-        // Counter-clockwise in camera space (y up) is clockwise in sample space (y down).
-        const bool backFacing =
-            (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()) > 0;
-        rasteriseTriangle(
-            a, b, c, w, rowBegin, rowEnd, [&](int x, int y, float wa, float wb, float wc) {
-              const std::size_t i = std::size_t(y) * w + x;
-              const float z = wa * a.z() + wb * b.z() + wc * c.z();
-              frag(i, z, [&]() {
-                const Eigen::Vector3f n =
-                    pm.smooth ? Eigen::Vector3f(wa * pm.normal[ia] + wb * pm.normal[ib] +
-                                                wc * pm.normal[ic])
-                              : pm.normal[f];
-                const Eigen::Vector3f albedo =
-                    pm.albedo.empty() ? pm.flat
-                                      : Eigen::Vector3f(wa * pm.albedo[ia] + wb * pm.albedo[ib] +
-                                                        wc * pm.albedo[ic]);
-                return shade(n, backFacing, albedo);
+      // Front faces first: on closed surfaces the back faces then mostly fail the depth test
+      // before being shaded.
+      for (int pass = 0; pass < 2; ++pass)
+        for (int t = bins.start[band]; t < bins.start[band + 1]; ++t) {
+          const int f = bins.tris[t];
+          const int ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
+          const Eigen::Vector3f &a = pm.p[ia], &b = pm.p[ib], &c = pm.p[ic];
+          // Counter-clockwise in camera space (y up) is clockwise in sample space (y down).
+          const bool backFacing =
+              (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()) > 0;
+          if (backFacing != (pass == 1)) continue;
+          rasteriseTriangle(
+              a, b, c, w, rowBegin, rowEnd, [&](int x, int y, float wa, float wb, float wc) {
+                const std::size_t i = std::size_t(y) * w + x;
+                const float z = wa * a.z() + wb * b.z() + wc * c.z();
+                frag(i, z, [&]() {
+                  const Eigen::Vector3f n =
+                      pm.smooth ? Eigen::Vector3f(wa * pm.normal[ia] + wb * pm.normal[ib] +
+                                                  wc * pm.normal[ic])
+                                : pm.normal[f];
+                  const Eigen::Vector3f albedo =
+                      pm.albedo.empty() ? pm.flat
+                                        : Eigen::Vector3f(wa * pm.albedo[ia] + wb * pm.albedo[ib] +
+                                                          wc * pm.albedo[ic]);
+                  return shade(n, backFacing, albedo);
+                });
               });
-            });
-      }
+        }
     }
   });
 }
