@@ -363,6 +363,34 @@ TEST(Preview, CaptionsAreDrawnCentredInTheTopMargin) {
   EXPECT_THROW(renderScene(scene, {.heightPx = 400, .captions = {"a", "b"}}), InputError);
 }
 
+TEST(Preview, CurvesOnATransparentSurfaceStaySharpAndCurvesBehindItAreTinted) {
+  const TriMesh sphere = makeIcosphere(4);
+  auto arc = [](double t0, double t1) {
+    Eigen::MatrixX3d P(33, 3);
+    for (int i = 0; i < 33; ++i) {
+      const double t = t0 + (t1 - t0) * i / 32;
+      P.row(i) << std::cos(t), 0, std::sin(t);
+    }
+    return P;
+  };
+  const double pi = std::numbers::pi;
+  const Rgb green{0, 200, 0};
+  auto centreOf = [&](const Eigen::MatrixX3d& curve, float opacity) {
+    Scene s;
+    s.meshes.push_back({.mesh = &sphere, .flatColour = {0, 0, 255}, .opacity = opacity});
+    s.lines.push_back({.points = curve, .colour = green, .widthPx = 6});
+    const Image im = renderScene(s, {.heightPx = 128});
+    return pixel(im, im.width / 2, im.height / 2);
+  };
+  // On the near surface: the curve is drawn as is.
+  EXPECT_EQ(centreOf(arc(0.3, pi - 0.3), 0.5f), green);
+  // Behind the near surface (on the far side): seen through it, blended half and half.
+  const Rgb surface = centreOf(Eigen::MatrixX3d(0, 3), 1.0f);
+  const Rgb through = centreOf(arc(pi + 0.3, 2 * pi - 0.3), 0.5f);
+  EXPECT_NEAR(through.g, 0.5 * green.g + 0.5 * surface.g, 1.5);
+  EXPECT_NEAR(through.b, 0.5 * green.b + 0.5 * surface.b, 1.5);
+}
+
 TEST(Preview, RenderingIsDeterministic) {
   const TriMesh sphere = makeIcosphere(4);
   Scene scene;
