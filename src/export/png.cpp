@@ -1,0 +1,113 @@
+#include "export/png.h"
+
+#include <png.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <system_error>
+
+#include "core/error.h"
+
+namespace s2p {
+namespace {
+
+constexpr long long kMaxPixels = 1LL << 28;  // refuse absurd sizes rather than exhaust memory
+
+png_image emptyPngImage() {
+  png_image image;
+  std::memset(&image, 0, sizeof(image));
+  image.version = PNG_IMAGE_VERSION;
+  return image;
+}
+
+// A fresh name beside `path`, so that the final rename stays on one file system.
+std::filesystem::path temporaryPath(const std::filesystem::path& path) {
+  static std::atomic<unsigned> counter{0};
+  std::string name = path.filename().string();
+  name.append(".tmp").append(std::to_string(getpid())).append("_");
+  name.append(std::to_string(counter++));
+  return path.parent_path() / name.insert(0, 1, '.');
+}
+
+}  // namespace
+
+void writePng(const std::filesystem::path& path, const Image& image) {
+  if (image.width <= 0 || image.height <= 0 ||
+      static_cast<long long>(image.width) * image.height > kMaxPixels)
+    throw InputError("writePng " + path.string() + ": invalid image size " +
+                     std::to_string(image.width) + "x" + std::to_string(image.height));
+  if (image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
+    throw InputError("writePng " + path.string() + ": the pixel buffer has " +
+                     std::to_string(image.rgb.size()) + " bytes, expected width·height·3 = " +
+                     std::to_string(static_cast<std::size_t>(image.width) * image.height * 3));
+
+  png_image png = emptyPngImage();
+  png.width = static_cast<png_uint_32>(image.width);
+  png.height = static_cast<png_uint_32>(image.height);
+  png.format = PNG_FORMAT_RGB;
+  png_alloc_size_t bytes = 0;
+  if (!png_image_write_to_memory(&png, nullptr, &bytes, 0, image.rgb.data(), 0, nullptr))
+    throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " + png.message);
+  std::string encoded(bytes, '\0');
+  if (!png_image_write_to_memory(&png, encoded.data(), &bytes, 0, image.rgb.data(), 0, nullptr))
+    throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " + png.message);
+  encoded.resize(bytes);
+
+  const std::filesystem::path tmp = temporaryPath(path);
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (out) out.write(encoded.data(), static_cast<std::streamsize>(encoded.size()));
+    if (out) out.close();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw IoError("writePng: cannot write " + path.string() +
+                    ": check that the folder exists, is writable and the disk is not full");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw IoError("writePng: cannot move the finished image to " + path.string() + ": " +
+                  ec.message());
+  }
+}
+
+Image readPng(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("readPng: cannot open " + path.string() + ": check the path");
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw IoError("readPng: cannot read " + path.string());
+
+  png_image png = emptyPngImage();
+  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size())) {
+    const std::string message = png.message;
+    png_image_free(&png);
+    throw FormatError("readPng " + path.string() + ": not a valid PNG file: " + message);
+  }
+  if (static_cast<long long>(png.width) * png.height > kMaxPixels) {
+    png_image_free(&png);
+    throw FormatError("readPng " + path.string() + ": image of " + std::to_string(png.width) + "x" +
+                      std::to_string(png.height) + " pixels is too large");
+  }
+  png.format = PNG_FORMAT_RGB;
+  Image image;
+  image.width = static_cast<int>(png.width);
+  image.height = static_cast<int>(png.height);
+  image.rgb.resize(PNG_IMAGE_SIZE(png));
+  const png_color white{255, 255, 255};
+  if (!png_image_finish_read(&png, &white, image.rgb.data(), 0, nullptr)) {
+    const std::string message = png.message;
+    png_image_free(&png);
+    throw FormatError("readPng " + path.string() + ": truncated or corrupt PNG: " + message);
+  }
+  return image;
+}
+
+}  // namespace s2p
