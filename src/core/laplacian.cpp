@@ -60,36 +60,56 @@ Eigen::SparseMatrix<double> cotanLaplacian(const TriMesh& mesh) {
       valOf[fill[i]++] = w;
     }
   }
+  // Per column: insertion-sort the (few) entries by row, merge duplicates, add the diagonal,
+  // writing straight into the CSC arrays (upper bound on nnz, shrunk at the end).
   Eigen::SparseMatrix<double> L(nV, nV);
-  // Upper bound: every off-diagonal entry distinct plus the diagonal.
-  std::vector<int> outer(nV + 1, 0), inner;
-  std::vector<double> values;
-  inner.reserve(colStart[nV] / 2 + nV);
-  values.reserve(colStart[nV] / 2 + nV);
-  std::vector<std::pair<int, double>> col;
+  L.resizeNonZeros(static_cast<Eigen::Index>(colStart[nV]) + nV);
+  int* outer = L.outerIndexPtr();
+  int* inner = L.innerIndexPtr();
+  double* values = L.valuePtr();
+  int nnz = 0;
+  outer[0] = 0;
   for (int c = 0; c < nV; ++c) {
-    col.clear();
+    const int b = colStart[c], e = colStart[c + 1];
+    for (int t = b + 1; t < e; ++t) {
+      const int r = rowOf[t];
+      const double w = valOf[t];
+      int u = t;
+      for (; u > b && rowOf[u - 1] > r; --u) {
+        rowOf[u] = rowOf[u - 1];
+        valOf[u] = valOf[u - 1];
+      }
+      rowOf[u] = r;
+      valOf[u] = w;
+    }
     double diag = 0.0;
-    for (int t = colStart[c]; t < colStart[c + 1]; ++t) {
-      col.emplace_back(rowOf[t], valOf[t]);
-      diag -= valOf[t];
-    }
-    col.emplace_back(c, diag);
-    std::sort(col.begin(), col.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (size_t t = 0; t < col.size();) {
-      const int r = col[t].first;
+    bool diagWritten = false;
+    for (int t = b; t < e;) {
+      const int r = rowOf[t];
       double sum = 0.0;
-      for (; t < col.size() && col[t].first == r; ++t) sum += col[t].second;
-      inner.push_back(r);
-      values.push_back(sum);
+      for (; t < e && rowOf[t] == r; ++t) sum += valOf[t];
+      diag -= sum;
+      if (!diagWritten && r > c) {
+        inner[nnz] = c;
+        values[nnz++] = 0.0;  // filled below once the column sum is known
+        diagWritten = true;
+      }
+      inner[nnz] = r;
+      values[nnz++] = sum;
     }
-    outer[c + 1] = static_cast<int>(inner.size());
+    if (!diagWritten) {
+      inner[nnz] = c;
+      values[nnz++] = 0.0;
+    }
+    // Place the diagonal value: it is the entry with row c in this column.
+    for (int t = outer[c]; t < nnz; ++t)
+      if (inner[t] == c) {
+        values[t] = diag;
+        break;
+      }
+    outer[c + 1] = nnz;
   }
-  L.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-  std::copy(outer.begin(), outer.end(), L.outerIndexPtr());
-  std::copy(inner.begin(), inner.end(), L.innerIndexPtr());
-  std::copy(values.begin(), values.end(), L.valuePtr());
+  L.data().resize(nnz);
   return L;
 }
 
