@@ -1,9 +1,10 @@
 #include "core/laplacian.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <vector>
 
 #include "core/error.h"
@@ -16,9 +17,10 @@ void checkIndices(const TriMesh& mesh, const char* what) {
   for (int f = 0; f < mesh.numFaces(); ++f)
     for (int k = 0; k < 3; ++k)
       if (mesh.F(f, k) < 0 || mesh.F(f, k) >= nV)
-        throw InputError(fmt::format("{}: face {} references vertex {} but the mesh has {} "
-                                     "vertices; fix the face indices",
-                                     what, f, mesh.F(f, k), nV));
+        throw InputError(
+            fmt::format("{}: face {} references vertex {} but the mesh has {} "
+                        "vertices; fix the face indices",
+                        what, f, mesh.F(f, k), nV));
 }
 
 Eigen::Vector3d corner(const TriMesh& mesh, int f, int k) {
@@ -26,7 +28,9 @@ Eigen::Vector3d corner(const TriMesh& mesh, int f, int k) {
 }
 
 // Squared-area threshold below which a face is treated as degenerate (relative to its edges).
-bool degenerate(double cross2, double scale2) { return !(cross2 > 1e-28 * scale2); }
+bool degenerate(double cross2, double scale2) {
+  return !(cross2 > 1e-28 * scale2);
+}
 
 }  // namespace
 
@@ -52,8 +56,7 @@ Eigen::SparseMatrix<double> cotanLaplacian(const TriMesh& mesh) {
       const int i = mesh.F(f, (k + 1) % 3), j = mesh.F(f, (k + 2) % 3);
       // cot of the angle at corner k = (e1·e2)/|e1×e2|; the edge opposite k gets −½cot.
       const double w =
-          skip ? 0.0
-               : -0.5 * (p[(k + 1) % 3] - p[k]).dot(p[(k + 2) % 3] - p[k]) * invDoubleArea;
+          skip ? 0.0 : -0.5 * (p[(k + 1) % 3] - p[k]).dot(p[(k + 2) % 3] - p[k]) * invDoubleArea;
       rowOf[fill[j]] = i;
       valOf[fill[j]++] = w;
       rowOf[fill[i]] = j;

@@ -1,7 +1,8 @@
 #include "core/mesh_topology.h"
 
-#include <algorithm>
 #include <fmt/format.h>
+
+#include <algorithm>
 #include <numeric>
 #include <utility>
 
@@ -34,8 +35,12 @@ class DisjointSets {
 };
 
 // Half-edge h = 3f + k lies opposite corner k of face f and runs F(f,k+1) → F(f,k+2).
-inline int heFace(int h) { return h / 3; }
-inline int heCorner(int h) { return h % 3; }
+inline int heFace(int h) {
+  return h / 3;
+}
+inline int heCorner(int h) {
+  return h % 3;
+}
 
 }  // namespace
 
@@ -76,10 +81,12 @@ MeshTopology::MeshTopology(const Eigen::MatrixX3i& F, int numVertices)
   // === Edges: bucket half-edges by their smaller vertex, sort each (small) bucket by the
   // larger vertex; consecutive equal keys are one undirected edge. O(F) plus tiny sorts.
   std::vector<int> bucketStart(numVertices + 1, 0);
-  auto lo = [&](int h) { return std::min(F(heFace(h), (heCorner(h) + 1) % 3),
-                                         F(heFace(h), (heCorner(h) + 2) % 3)); };
-  auto hi = [&](int h) { return std::max(F(heFace(h), (heCorner(h) + 1) % 3),
-                                         F(heFace(h), (heCorner(h) + 2) % 3)); };
+  auto lo = [&](int h) {
+    return std::min(F(heFace(h), (heCorner(h) + 1) % 3), F(heFace(h), (heCorner(h) + 2) % 3));
+  };
+  auto hi = [&](int h) {
+    return std::max(F(heFace(h), (heCorner(h) + 1) % 3), F(heFace(h), (heCorner(h) + 2) % 3));
+  };
   for (int h = 0; h < nH; ++h) ++bucketStart[lo(h) + 1];
   for (int v = 0; v < numVertices; ++v) bucketStart[v + 1] += bucketStart[v];
   std::vector<std::pair<int, int>> bucket(nH);  // (larger vertex, half-edge)
@@ -128,9 +135,7 @@ MeshTopology::MeshTopology(const Eigen::MatrixX3i& F, int numVertices)
   // === Fans: corners (3f + k) of the same vertex joined across each shared edge. A vertex
   // whose corners fall into more than one set is non-manifold (bowtie, touching cones).
   DisjointSets corners(nH);
-  auto cornerOf = [&](int f, int v) {
-    return 3 * f + (F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2));
-  };
+  auto cornerOf = [&](int f, int v) { return 3 * f + (F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2)); };
   for (int e = 0; e < nE; ++e) {
     const int f0 = edgeFaceList_[edgeFaceStart_[e]];
     for (int i = edgeFaceStart_[e] + 1; i < edgeFaceStart_[e + 1]; ++i) {
@@ -220,7 +225,9 @@ std::vector<int> MeshTopology::edgeFaces(int e) const {
   return {edgeFaceList_.begin() + edgeFaceStart_[e], edgeFaceList_.begin() + edgeFaceStart_[e + 1]};
 }
 
-int MeshTopology::edgeFaceCount(int e) const { return edgeFaceStart_[e + 1] - edgeFaceStart_[e]; }
+int MeshTopology::edgeFaceCount(int e) const {
+  return edgeFaceStart_[e + 1] - edgeFaceStart_[e];
+}
 
 std::vector<int> MeshTopology::vertexFaces(int v) const {
   return {vertexFaceList_.begin() + vertexFaceStart_[v],

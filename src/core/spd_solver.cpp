@@ -1,10 +1,10 @@
 #include "core/spd_solver.h"
 
 #include <cholmod.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <vector>
 
 #include "core/error.h"
@@ -34,9 +34,10 @@ LowerCsc lowerTriangle(const Eigen::SparseMatrix<double>& A, const char* what) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it) {
       if (it.row() < c) continue;
       if (!std::isfinite(it.value()))
-        throw InputError(fmt::format("SpdSolver::{}: entry ({}, {}) is {}; the matrix must be "
-                                     "finite",
-                                     what, it.row(), c, it.value()));
+        throw InputError(
+            fmt::format("SpdSolver::{}: entry ({}, {}) is {}; the matrix must be "
+                        "finite",
+                        what, it.row(), c, it.value()));
       L.inner.push_back(static_cast<int>(it.row()));
       L.values.push_back(it.value());
     }
@@ -64,11 +65,16 @@ cholmod_sparse view(LowerCsc& L) {
 
 std::string statusText(int status) {
   switch (status) {
-    case CHOLMOD_OUT_OF_MEMORY: return "out of memory";
-    case CHOLMOD_TOO_LARGE: return "problem too large";
-    case CHOLMOD_INVALID: return "invalid input";
-    case CHOLMOD_NOT_INSTALLED: return "method not installed";
-    default: return fmt::format("status {}", status);
+    case CHOLMOD_OUT_OF_MEMORY:
+      return "out of memory";
+    case CHOLMOD_TOO_LARGE:
+      return "problem too large";
+    case CHOLMOD_INVALID:
+      return "invalid input";
+    case CHOLMOD_NOT_INSTALLED:
+      return "method not installed";
+    default:
+      return fmt::format("status {}", status);
   }
 }
 
@@ -112,9 +118,10 @@ struct SpdSolver::Impl {
           n, n, column, k));
     }
     if (!ok || common.status < CHOLMOD_OK)
-      throw SolverError(fmt::format("SpdSolver: CHOLMOD factorisation of the {}×{} matrix failed "
-                                    "({})",
-                                    n, n, statusText(common.status)));
+      throw SolverError(
+          fmt::format("SpdSolver: CHOLMOD factorisation of the {}×{} matrix failed "
+                      "({})",
+                      n, n, statusText(common.status)));
     numericValid = true;
   }
 };
@@ -157,13 +164,15 @@ void SpdSolver::refactor(const Eigen::SparseMatrix<double>& A) {
 
 Eigen::MatrixXd SpdSolver::solve(const Eigen::MatrixXd& B) const {
   if (!ready())
-    throw SolverError("SpdSolver::solve: no valid factorisation; call compute() first (and make "
-                      "sure it succeeded)");
+    throw SolverError(
+        "SpdSolver::solve: no valid factorisation; call compute() first (and make "
+        "sure it succeeded)");
   const Impl& s = *impl_;
   if (B.rows() != s.n)
-    throw InputError(fmt::format("SpdSolver::solve: right-hand side has {} rows, the matrix is "
-                                 "{}×{}",
-                                 B.rows(), s.n, s.n));
+    throw InputError(
+        fmt::format("SpdSolver::solve: right-hand side has {} rows, the matrix is "
+                    "{}×{}",
+                    B.rows(), s.n, s.n));
   if (B.cols() == 0) return Eigen::MatrixXd(s.n, 0);
   cholmod_dense b{};
   b.nrow = static_cast<size_t>(B.rows());
@@ -180,11 +189,11 @@ Eigen::MatrixXd SpdSolver::solve(const Eigen::MatrixXd& B) const {
   if (!x) {
     const int status = c.status;
     cholmod_finish(&c);
-    throw SolverError(fmt::format("SpdSolver::solve: CHOLMOD solve failed ({})",
-                                  statusText(status)));
+    throw SolverError(
+        fmt::format("SpdSolver::solve: CHOLMOD solve failed ({})", statusText(status)));
   }
-  Eigen::MatrixXd X = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x),
-                                                        B.rows(), B.cols());
+  Eigen::MatrixXd X =
+      Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), B.rows(), B.cols());
   cholmod_free_dense(&x, &c);
   cholmod_finish(&c);
   return X;
@@ -194,8 +203,12 @@ Eigen::VectorXd SpdSolver::solve(const Eigen::VectorXd& b) const {
   return solve(Eigen::MatrixXd(b)).col(0);
 }
 
-int SpdSolver::rows() const { return impl_ ? impl_->n : 0; }
+int SpdSolver::rows() const {
+  return impl_ ? impl_->n : 0;
+}
 
-bool SpdSolver::ready() const { return impl_ && impl_->factor && impl_->numericValid; }
+bool SpdSolver::ready() const {
+  return impl_ && impl_->factor && impl_->numericValid;
+}
 
 }  // namespace s2p

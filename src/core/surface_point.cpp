@@ -1,8 +1,9 @@
 #include "core/surface_point.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <fmt/format.h>
 #include <limits>
 
 #include "core/error.h"
@@ -87,9 +88,9 @@ Eigen::RowVectorXd SurfacePoint::interpolate(const Eigen::MatrixX3i& F,
   Eigen::RowVectorXd out = Eigen::RowVectorXd::Zero(field.cols());
   for (int k = 0; k < 3; ++k) {
     if (F(face, k) >= field.rows())
-      throw InputError(fmt::format(
-          "SurfacePoint::interpolate: field has {} rows but face {} uses vertex {}", field.rows(),
-          face, F(face, k)));
+      throw InputError(
+          fmt::format("SurfacePoint::interpolate: field has {} rows but face {} uses vertex {}",
+                      field.rows(), face, F(face, k)));
     out += bary(k) * field.row(F(face, k));
   }
   return out;
@@ -100,9 +101,9 @@ double SurfacePoint::interpolate(const Eigen::MatrixX3i& F, const Eigen::VectorX
   double out = 0;
   for (int k = 0; k < 3; ++k) {
     if (F(face, k) >= field.size())
-      throw InputError(fmt::format(
-          "SurfacePoint::interpolate: field has {} values but face {} uses vertex {}",
-          field.size(), face, F(face, k)));
+      throw InputError(
+          fmt::format("SurfacePoint::interpolate: field has {} values but face {} uses vertex {}",
+                      field.size(), face, F(face, k)));
     out += bary(k) * field(F(face, k));
   }
   return out;

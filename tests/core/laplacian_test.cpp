@@ -91,8 +91,8 @@ TEST(Laplacian, SymmetricRowsSumToZeroAndPositiveSemiDefinite) {
 TEST(Laplacian, LinearFunctionsAreHarmonicOnAFlatIrregularGrid) {
   const TriMesh g = jitteredGrid(15, 11, 0.2, 2);
   const Eigen::SparseMatrix<double> L = cotanLaplacian(g);
-  const Eigen::VectorXd u = 3.0 * g.V.col(0) - 2.0 * g.V.col(1) + Eigen::VectorXd::Constant(
-                                                                      g.numVertices(), 0.5);
+  const Eigen::VectorXd u =
+      3.0 * g.V.col(0) - 2.0 * g.V.col(1) + Eigen::VectorXd::Constant(g.numVertices(), 0.5);
   const Eigen::VectorXd Lu = L * u;
   const MeshTopology topo(g.F, g.numVertices());
   int interior = 0;
@@ -121,8 +121,8 @@ int countObtuse(const TriMesh& m) {
 
 TEST(Laplacian, TotalMassIsSurfaceArea) {
   EXPECT_GT(countObtuse(jitteredGrid(10, 8, 0.24, 3)), 10);  // the mixed-area branch is used
-  for (const TriMesh& m : {makeIcosphere(3, 1.3), jitteredGrid(10, 8, 0.24, 3),
-                           makeCylinder(5, 17, 0.4, 1.1)}) {
+  for (const TriMesh& m :
+       {makeIcosphere(3, 1.3), jitteredGrid(10, 8, 0.24, 3), makeCylinder(5, 17, 0.4, 1.1)}) {
     const double area = surfaceArea(m);
     for (MassType type : {MassType::Voronoi, MassType::Barycentric}) {
       const Eigen::SparseMatrix<double> M = massMatrix(m, type);
@@ -138,16 +138,16 @@ TEST(Laplacian, GradientOfLinearFunctionIsExactAndConstant) {
   const Eigen::SparseMatrix<double> G = gradientOperator(g);
   ASSERT_EQ(G.rows(), 3 * g.numFaces());
   ASSERT_EQ(G.cols(), g.numVertices());
-  const Eigen::VectorXd u = 1.5 * g.V.col(0) - 0.25 * g.V.col(1) + Eigen::VectorXd::Constant(
-                                                                       g.numVertices(), 4.0);
+  const Eigen::VectorXd u =
+      1.5 * g.V.col(0) - 0.25 * g.V.col(1) + Eigen::VectorXd::Constant(g.numVertices(), 4.0);
   const Eigen::VectorXd gu = G * u;
   const Eigen::Map<const Eigen::MatrixX3d> perFace(gu.data(), g.numFaces(), 3);
   for (int f = 0; f < g.numFaces(); ++f)
     EXPECT_LT((perFace.row(f) - Eigen::RowVector3d(1.5, -0.25, 0.0)).norm(), 1e-12) << f;
   // On a tilted plane the gradient of a linear function is its projection onto the plane.
   TriMesh tilted = g;
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 2, 0.5).normalized())
-                                .toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix();
   tilted.V = (g.V * R.transpose()).eval();
   const Eigen::Vector3d a(0.3, -1.0, 2.0);
   const Eigen::Vector3d n = R.col(2);
