@@ -56,6 +56,15 @@ void BM_MassMatrix(benchmark::State& state) {
   state.counters["vertices"] = m.numVertices();
 }
 
+void BM_Gradient(benchmark::State& state) {
+  const TriMesh& m = sphere(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    Eigen::SparseMatrix<double> G = gradientOperator(m);
+    benchmark::DoNotOptimize(G.valuePtr());
+  }
+  state.counters["vertices"] = m.numVertices();
+}
+
 void BM_Factor(benchmark::State& state) {
   const TriMesh& m = sphere(static_cast<int>(state.range(0)));
   const Eigen::SparseMatrix<double> A = system(m);
@@ -95,6 +104,7 @@ void BM_Solve(benchmark::State& state) {
 BENCHMARK(BM_MeshTopology)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CotanLaplacian)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MassMatrix)->S2P_SIZES->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Gradient)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Factor)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Refactor)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Solve)->S2P_SIZES->Unit(benchmark::kMillisecond);

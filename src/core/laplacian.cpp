@@ -157,23 +157,39 @@ Eigen::SparseMatrix<double> massMatrix(const TriMesh& mesh, MassType type) {
 
 Eigen::SparseMatrix<double> gradientOperator(const TriMesh& mesh) {
   checkIndices(mesh, "gradientOperator");
-  const int nF = mesh.numFaces();
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(9 * static_cast<size_t>(nF));
-  for (int f = 0; f < nF; ++f) {
-    const Eigen::Vector3d p[3] = {corner(mesh, f, 0), corner(mesh, f, 1), corner(mesh, f, 2)};
+  const Eigen::Index nF = mesh.numFaces();
+  // Row-major build: every row has exactly three entries (explicit zeros for degenerate faces,
+  // so the pattern depends on F only), then one conversion to column-major.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> G(3 * nF, mesh.numVertices());
+  G.resizeNonZeros(9 * nF);
+  int* outer = G.outerIndexPtr();
+  int* inner = G.innerIndexPtr();
+  double* values = G.valuePtr();
+  for (Eigen::Index r = 0; r <= 3 * nF; ++r) outer[r] = static_cast<int>(3 * r);
+  for (Eigen::Index f = 0; f < nF; ++f) {
+    const Eigen::Vector3d p[3] = {corner(mesh, static_cast<int>(f), 0),
+                                  corner(mesh, static_cast<int>(f), 1),
+                                  corner(mesh, static_cast<int>(f), 2)};
     const Eigen::Vector3d n2A = (p[1] - p[0]).cross(p[2] - p[0]);  // normal × 2·area
     const double cross2 = n2A.squaredNorm();
-    if (degenerate(cross2, (p[1] - p[0]).squaredNorm() * (p[2] - p[0]).squaredNorm())) continue;
-    // ∇φ_k = n × e_k / (2A), e_k the edge opposite corner k in winding order.
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d g = n2A.cross(p[(k + 2) % 3] - p[(k + 1) % 3]) / cross2;
-      for (int d = 0; d < 3; ++d) triplets.emplace_back(d * nF + f, mesh.F(f, k), g(d));
+    const bool skip = degenerate(cross2, (p[1] - p[0]).squaredNorm() * (p[2] - p[0]).squaredNorm());
+    // Corners in increasing vertex order (a row's column indices must be sorted).
+    int order[3] = {0, 1, 2};
+    std::sort(order, order + 3, [&](int a, int b) { return mesh.F(f, a) < mesh.F(f, b); });
+    for (int slot = 0; slot < 3; ++slot) {
+      const int k = order[slot];
+      // ∇φ_k = n × e_k / (2A), e_k the edge opposite corner k in winding order.
+      const Eigen::Vector3d g =
+          skip ? Eigen::Vector3d::Zero()
+               : Eigen::Vector3d(n2A.cross(p[(k + 2) % 3] - p[(k + 1) % 3]) / cross2);
+      for (int d = 0; d < 3; ++d) {
+        const Eigen::Index at = 3 * (d * nF + f) + slot;
+        inner[at] = mesh.F(f, k);
+        values[at] = g(d);
+      }
     }
   }
-  Eigen::SparseMatrix<double> G(3 * nF, mesh.numVertices());
-  G.setFromTriplets(triplets.begin(), triplets.end());
-  return G;
+  return Eigen::SparseMatrix<double>(G);
 }
 
 Eigen::SparseMatrix<double> divergenceOperator(const TriMesh& mesh) {
