@@ -88,6 +88,29 @@ void BM_Refactor(benchmark::State& state) {
   state.counters["vertices"] = m.numVertices();
 }
 
+void BM_FactorMetis(benchmark::State& state) {
+  const TriMesh& m = sphere(static_cast<int>(state.range(0)));
+  const Eigen::SparseMatrix<double> A = system(m);
+  for (auto _ : state) {
+    SpdSolver solver(SpdSolver::Ordering::Metis);
+    solver.compute(A);
+    benchmark::DoNotOptimize(solver.ready());
+  }
+  state.counters["vertices"] = m.numVertices();
+}
+
+void BM_RefactorMetis(benchmark::State& state) {
+  const TriMesh& m = sphere(static_cast<int>(state.range(0)));
+  const Eigen::SparseMatrix<double> A = system(m);
+  SpdSolver solver(SpdSolver::Ordering::Metis);
+  solver.compute(A);
+  for (auto _ : state) {
+    solver.refactor(A);
+    benchmark::DoNotOptimize(solver.ready());
+  }
+  state.counters["vertices"] = m.numVertices();
+}
+
 void BM_Solve(benchmark::State& state) {
   const TriMesh& m = sphere(static_cast<int>(state.range(0)));
   SpdSolver solver;
@@ -107,6 +130,8 @@ BENCHMARK(BM_MassMatrix)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Gradient)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Factor)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Refactor)->S2P_SIZES->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FactorMetis)->S2P_SIZES->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RefactorMetis)->S2P_SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Solve)->S2P_SIZES->Unit(benchmark::kMillisecond);
 
 }  // namespace

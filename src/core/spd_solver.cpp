@@ -88,13 +88,21 @@ void startCommon(cholmod_common& c) {
 }  // namespace
 
 struct SpdSolver::Impl {
+  Ordering ordering;
   cholmod_common common;
   cholmod_factor* factor = nullptr;  // symbolic once analysed, numeric when numericValid
   bool numericValid = false;
   int n = 0;
   std::vector<int> outer, inner;  // lower-triangle pattern of the analysed matrix
 
-  Impl() { startCommon(common); }
+  explicit Impl(Ordering ordering) : ordering(ordering) {
+    startCommon(common);
+    if (ordering != Ordering::Auto) {
+      common.nmethods = 1;
+      common.method[0].ordering = ordering == Ordering::Amd ? CHOLMOD_AMD : CHOLMOD_METIS;
+      common.postorder = 1;
+    }
+  }
   ~Impl() {
     if (factor) cholmod_free_factor(&factor, &common);
     cholmod_finish(&common);
@@ -126,13 +134,13 @@ struct SpdSolver::Impl {
   }
 };
 
-SpdSolver::SpdSolver() : impl_(std::make_unique<Impl>()) {}
+SpdSolver::SpdSolver(Ordering ordering) : impl_(std::make_unique<Impl>(ordering)) {}
 SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
 
 void SpdSolver::compute(const Eigen::SparseMatrix<double>& A) {
-  if (!impl_) impl_ = std::make_unique<Impl>();  // a moved-from solver is usable again
+  if (!impl_) impl_ = std::make_unique<Impl>(Ordering::Auto);  // a moved-from solver is reusable
   LowerCsc L = lowerTriangle(A, "compute");
   Impl& s = *impl_;
   if (s.factor) cholmod_free_factor(&s.factor, &s.common);

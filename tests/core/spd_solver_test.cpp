@@ -91,6 +91,20 @@ TEST(SpdSolver, ScreenedPoissonOnSphereRecoversManufacturedSolution) {
   EXPECT_LT((y - exact).cwiseAbs().maxCoeff(), 1e-8);
 }
 
+TEST(SpdSolver, OrderingsGiveTheSameSolution) {
+  const TriMesh g = makeGrid(30, 25);
+  const Sparse A = massMatrix(g) + 0.2 * cotanLaplacian(g);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(g.numVertices(), -1.0, 2.0);
+  SpdSolver automatic, amd(SpdSolver::Ordering::Amd), metis(SpdSolver::Ordering::Metis);
+  automatic.compute(A);
+  amd.compute(A);
+  metis.compute(A);
+  const Eigen::VectorXd x = automatic.solve(b);
+  EXPECT_LT((A * x - b).norm(), 1e-10 * b.norm());
+  EXPECT_LT((amd.solve(b) - x).norm(), 1e-10 * x.norm());
+  EXPECT_LT((metis.solve(b) - x).norm(), 1e-10 * x.norm());
+}
+
 TEST(SpdSolver, RefactorWithNewValuesGivesNewSolution) {
   const TriMesh s = makeIcosphere(3, 1.0);
   const Sparse M = massMatrix(s), L = cotanLaplacian(s);
