@@ -1,0 +1,39 @@
+// Discrete differential operators on a triangle mesh: cotan Laplacian, mass matrix,
+// per-face gradient and its adjoint divergence (the building blocks of §5.1.3–5.2: biharmonic
+// fields, heat-method geodesics, length regularisation).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "core/tri_mesh.h"
+
+namespace s2p {
+
+// Cotan Laplacian, #V×#V, symmetric positive SEMI-definite: L = −Δ in weak form,
+//   L_ij = −½(cot α_ij + cot β_ij) for each edge ij,  L_ii = −Σ_j L_ij,
+// so uᵀLu = ∫|∇u|² (Dirichlet energy ×2) and M + tL is SPD for t ≥ 0. Rows sum to zero.
+// Degenerate (zero-area) faces contribute nothing.
+Eigen::SparseMatrix<double> cotanLaplacian(const TriMesh& mesh);
+
+enum class MassType {
+  Voronoi,     // mixed Voronoi areas (Meyer et al. 2003): obtuse triangles split ½ / ¼ / ¼
+  Barycentric  // one third of each incident face's area
+};
+
+// Lumped vertex areas, #V; they sum to the surface area for both types.
+Eigen::VectorXd vertexAreas(const TriMesh& mesh, MassType type = MassType::Voronoi);
+// Diagonal mass matrix #V×#V with vertexAreas on the diagonal.
+Eigen::SparseMatrix<double> massMatrix(const TriMesh& mesh, MassType type = MassType::Voronoi);
+
+// Per-face gradient of a piecewise-linear function, (3#F)×#V, rows stacked by coordinate:
+// row f is ∂/∂x on face f, row #F + f is ∂/∂y, row 2#F + f is ∂/∂z (libigl's layout).
+// Reshape G·u (3#F) to #F×3 with Eigen::Map<MatrixX3d>(g.data(), #F, 3).
+// Degenerate faces get zero rows.
+Eigen::SparseMatrix<double> gradientOperator(const TriMesh& mesh);
+
+// Integrated divergence of a per-face vector field (same stacking as the gradient), #V×(3#F):
+// div = −Gᵀ·diag(A, A, A) with A the face areas, so that div·G = −L (the weak Laplacian Δ).
+Eigen::SparseMatrix<double> divergenceOperator(const TriMesh& mesh);
+
+}  // namespace s2p
