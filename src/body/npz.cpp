@@ -349,12 +349,12 @@ NpyArray decodeNpy(const std::string& bytes, const std::string& what) {
 }
 
 NpyArray readNpy(const std::filesystem::path& path) {
-  return decodeNpy(readAll(path, ".npy file"), "'" + path.string() + "'");
+  return decodeNpy(readAll(path, ".npy file"), std::string("'").append(path.string()).append("'"));
 }
 
 std::map<std::string, NpyArray> readNpz(const std::filesystem::path& path) {
   const std::string bytes = readAll(path, ".npz file");
-  const std::string file = "'" + path.string() + "'";
+  const std::string file = std::string("'").append(path.string()).append("'");
   const size_t n = bytes.size();
   const char* b = bytes.data();
   if (n < 22) throw FormatError(file + ": too short to be a zip (.npz) archive");

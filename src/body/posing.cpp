@@ -68,6 +68,7 @@ struct Kinematics {
   std::vector<Eigen::Matrix3d> localR;  // #J, R_j = exp([θ_j]×)
   std::vector<Eigen::Matrix3d> worldR;  // #J, accumulated along parents
   std::vector<Eigen::Vector3d> worldT;  // #J, posed joint positions without global translation
+  std::vector<Eigen::Vector3d> disp;    // #J, worldT − rest joint (exactly 0 at the rest pose)
   Eigen::VectorXd feature;              // 9(#J−1), (R_j − I) row-major for j ≥ 1
 };
 
@@ -78,17 +79,20 @@ Kinematics forwardKinematics(const BodyModel& model, const Eigen::MatrixX3d& joi
   k.localR.resize(nj);
   k.worldR.resize(nj);
   k.worldT.resize(nj);
+  k.disp.resize(nj);
   k.feature.resize(9 * (nj - 1));
   for (int j = 0; j < nj; ++j) {
     k.localR[j] = axisAngleToMatrix(axisAngle.row(j).transpose());
     const int p = model.parents[j];
     if (p < 0) {
       k.worldR[j] = k.localR[j];
-      k.worldT[j] = joints.row(j).transpose();
+      k.disp[j].setZero();
     } else {
       k.worldR[j] = k.worldR[p] * k.localR[j];
-      k.worldT[j] = k.worldT[p] + k.worldR[p] * (joints.row(j) - joints.row(p)).transpose();
+      k.disp[j] = k.disp[p] + (k.worldR[p] - Eigen::Matrix3d::Identity()) *
+                                  (joints.row(j) - joints.row(p)).transpose();
     }
+    k.worldT[j] = joints.row(j).transpose() + k.disp[j];
     if (j > 0)
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
@@ -192,7 +196,8 @@ PosedBody Poser::pose(const BodyParams& params) const {
   for (int j = 0; j < nj; ++j) {
     Eigen::Affine3d A = Eigen::Affine3d::Identity();
     A.linear() = kin.worldR[j];
-    A.translation() = kin.worldT[j] - kin.worldR[j] * J.row(j).transpose() + t;
+    A.translation() =
+        kin.disp[j] - (kin.worldR[j] - Eigen::Matrix3d::Identity()) * J.row(j).transpose() + t;
     out.skinning[j] = A;
     out.joints.row(j) = (kin.worldT[j] + t).transpose();
   }
@@ -201,10 +206,11 @@ PosedBody Poser::pose(const BodyParams& params) const {
   out.mesh.V.resize(nv, 3);
   for (int v = 0; v < nv; ++v) {
     const Eigen::Vector3d x = m.rest.V.row(v).transpose() + off.segment<3>(3 * v);
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    // x + Σ w (A x − x) rather than Σ w A x: the rest pose reproduces the template exactly.
+    Eigen::Vector3d p = x;
     for (RowSparse::InnerIterator it(m.weights, v); it; ++it) {
       const Eigen::Affine3d& A = out.skinning[it.col()];
-      p += it.value() * (A.linear() * x + A.translation());
+      p += it.value() * (A.linear() * x + A.translation() - x);
     }
     out.mesh.V.row(v) = p.transpose();
   }
