@@ -122,7 +122,7 @@ std::map<std::string, NpyArray> syntheticSmpl(unsigned seed = 1) {
 void writeModel(const std::filesystem::path& path, const std::map<std::string, NpyArray>& a) {
   std::vector<NpzEntry> entries;
   for (const auto& [name, array] : a) {
-    NpzEntry e{name, array, "<f8", false, true, {}};
+    NpzEntry e{name, array, "<f8", false, name != "posedirs", {}};  // mixed STORED / DEFLATED
     if (name == "kintree_table" || name == "f") e.dtype = name == "f" ? "<u4" : "<i8";
     if (name == "weights" || name == "posedirs") e.dtype = "<f4";  // as real files often are
     if (name == "J_regressor") e.fortranOrder = true;
