@@ -1,5 +1,8 @@
 #include "body/posing.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <Eigen/LU>
 #include <cmath>
 #include <fstream>
@@ -263,8 +266,8 @@ Eigen::MatrixXd Poser::vertexJacobian(const BodyParams& params,
   // Many vertices: dense products over all vertices stream memory better than strided rows.
   const bool dense = 8 * n > nv;
   Eigen::VectorXd off;
-  RowMatrix shapeRows;    // (3#V)×#S row-major copy when dense
-  Eigen::MatrixXd poseD;  // (3#V)×3(#J−1): poseDirs · ∂feature/∂θ when dense
+  RowMatrix shapeRows;  // (3#V)×#S row-major copy when dense
+  RowMatrix poseD;      // (3#V)×3(#J−1): poseDirs · ∂feature/∂θ when dense
   std::vector<Eigen::Matrix<double, 9, 3>> D(nj);  // ∂vec(R_k)/∂θ_k
   if (correctives)
     for (int k = 1; k < nj; ++k) {
@@ -276,75 +279,88 @@ Eigen::MatrixXd Poser::vertexJacobian(const BodyParams& params,
       }
     }
   if (dense) {
-    off = templateOffsets(m, beta, &kin.feature);
+    // One pass over poseDirs: per joint, [feature_k | D_k] gives both the template offsets
+    // and the corrective derivatives.
+    off = Eigen::VectorXd::Zero(3 * nv);
+    if (ns > 0) off.noalias() += m.shapeDirs * beta;
     shapeRows = m.shapeDirs;
     if (correctives) {
       poseD.resize(3 * nv, 3 * (nj - 1));
-      for (int k = 1; k < nj; ++k)
-        poseD.middleCols(3 * (k - 1), 3).noalias() = m.poseDirs.middleCols(9 * (k - 1), 9) * D[k];
+      Eigen::Matrix<double, 9, 4> FD;
+      Eigen::Matrix<double, Eigen::Dynamic, 4> tmp(3 * nv, 4);
+      for (int k = 1; k < nj; ++k) {
+        FD.col(0) = kin.feature.segment<9>(9 * (k - 1));
+        FD.rightCols<3>() = D[k];
+        tmp.noalias() = m.poseDirs.middleCols(9 * (k - 1), 9) * FD;
+        off += tmp.col(0);
+        poseD.middleCols(3 * (k - 1), 3) = tmp.rightCols<3>();
+      }
     }
   }
 
   Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(3 * n, numParams());
-  std::vector<Eigen::Vector3d> Q(nj);
-  std::vector<double> W(nj, 0.0);
-  std::vector<char> touched(nj, 0);
-  std::vector<int> list;
-  list.reserve(nj);
-  Eigen::MatrixXd Eb(3, ns);
-  for (int r = 0; r < n; ++r) {
-    const int v = vertices[r];
-    Eigen::Vector3d x = m.rest.V.row(v).transpose();
-    if (dense) {
-      x += off.segment<3>(3 * v);
-    } else {
-      if (ns > 0) x += m.shapeDirs.middleRows(3 * v, 3) * beta;
-      if (correctives) x += m.poseDirs.middleRows(3 * v, 3) * kin.feature;
-    }
-    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();  // blended world rotation
-    Eb.setZero();
-    list.clear();
-    for (RowSparse::InnerIterator it(m.weights, v); it; ++it) {
-      const int j = static_cast<int>(it.col());
-      const double w = it.value();
-      const Eigen::Vector3d q = w * (kin.worldR[j] * (x - J.row(j).transpose()) + kin.worldT[j]);
-      M += w * kin.worldR[j];
-      if (ns > 0) Eb += w * E[j];
-      for (int k = j; k >= 0; k = m.parents[k]) {
-        if (!touched[k]) {
-          touched[k] = 1;
-          list.push_back(k);
-          Q[k].setZero();
-          W[k] = 0;
+  // Rows of different vertices are independent: chunks run in parallel, same result.
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 512), [&](const tbb::blocked_range<int>& range) {
+    std::vector<Eigen::Vector3d> Q(nj);
+    std::vector<double> W(nj, 0.0);
+    std::vector<char> touched(nj, 0);
+    std::vector<int> list;
+    list.reserve(nj);
+    Eigen::MatrixXd Eb(3, ns);
+    for (int r = range.begin(); r < range.end(); ++r) {
+      const int v = vertices[r];
+      Eigen::Vector3d x = m.rest.V.row(v).transpose();
+      if (dense) {
+        x += off.segment<3>(3 * v);
+      } else {
+        if (ns > 0) x += m.shapeDirs.middleRows(3 * v, 3) * beta;
+        if (correctives) x += m.poseDirs.middleRows(3 * v, 3) * kin.feature;
+      }
+      Eigen::Matrix3d M = Eigen::Matrix3d::Zero();  // blended world rotation
+      Eb.setZero();
+      list.clear();
+      for (RowSparse::InnerIterator it(m.weights, v); it; ++it) {
+        const int j = static_cast<int>(it.col());
+        const double w = it.value();
+        const Eigen::Vector3d q = w * (kin.worldR[j] * (x - J.row(j).transpose()) + kin.worldT[j]);
+        M += w * kin.worldR[j];
+        if (ns > 0) Eb += w * E[j];
+        for (int k = j; k >= 0; k = m.parents[k]) {
+          if (!touched[k]) {
+            touched[k] = 1;
+            list.push_back(k);
+            Q[k].setZero();
+            W[k] = 0;
+          }
+          Q[k] += q;
+          W[k] += w;
         }
-        Q[k] += q;
-        W[k] += w;
       }
-    }
-    auto rows = jac.middleRows(3 * r, 3);
-    if (ns > 0) {
-      if (dense)
-        rows.leftCols(ns).noalias() = M * shapeRows.middleRows(3 * v, 3) + Eb;
-      else
-        rows.leftCols(ns).noalias() = M * m.shapeDirs.middleRows(3 * v, 3) + Eb;
-    }
-    // A point moved by joints below k turns about t_k: ∂p/∂θ_kc = ω_kc × (p − t_k).
-    for (int k : list) {
-      rows.middleCols(ns + 3 * k, 3).noalias() = -skew(Q[k] - W[k] * kin.worldT[k]) * omega[k];
-      touched[k] = 0;
-    }
-    if (correctives) {
-      for (int k = 1; k < nj; ++k) {
-        Eigen::Matrix3d dx;
+      auto rows = jac.middleRows(3 * r, 3);
+      if (ns > 0) {
         if (dense)
-          dx = poseD.block(3 * v, 3 * (k - 1), 3, 3);
+          rows.leftCols(ns).noalias() = M * shapeRows.middleRows(3 * v, 3) + Eb;
         else
-          dx.noalias() = m.poseDirs.block(3 * v, 9 * (k - 1), 3, 9) * D[k];
-        rows.middleCols(ns + 3 * k, 3).noalias() += M * dx;
+          rows.leftCols(ns).noalias() = M * m.shapeDirs.middleRows(3 * v, 3) + Eb;
       }
+      // A point moved by joints below k turns about t_k: ∂p/∂θ_kc = ω_kc × (p − t_k).
+      for (int k : list) {
+        rows.middleCols(ns + 3 * k, 3).noalias() = -skew(Q[k] - W[k] * kin.worldT[k]) * omega[k];
+        touched[k] = 0;
+      }
+      if (correctives) {
+        for (int k = 1; k < nj; ++k) {
+          Eigen::Matrix3d dx;
+          if (dense)
+            dx = poseD.block<3, 3>(3 * v, 3 * (k - 1));
+          else
+            dx.noalias() = m.poseDirs.block(3 * v, 9 * (k - 1), 3, 9) * D[k];
+          rows.middleCols(ns + 3 * k, 3).noalias() += M * dx;
+        }
+      }
+      rows.rightCols(3).setIdentity();
     }
-    rows.rightCols(3).setIdentity();
-  }
+  });
   return jac;
 }
 
