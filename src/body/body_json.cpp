@@ -34,6 +34,10 @@ nlohmann::json bodyToJson(const BodyModel& model, const BodyParams& params,
       params.pose.axisAngle.rows() != model.numJoints())
     throw InputError("bodyToJson: pose or posed body does not match body model '" + model.source +
                      "'");
+  if (static_cast<int>(model.jointNames.size()) != model.numJoints() ||
+      static_cast<int>(model.shapeParams.size()) != model.numShapes())
+    throw InputError("bodyToJson: body model '" + model.source +
+                     "' lacks joint or shape parameter names");
   if (params.shape.size() != 0 && params.shape.size() != model.numShapes())
     throw InputError("bodyToJson: " + std::to_string(params.shape.size()) + " shape values for " +
                      std::to_string(model.numShapes()) + " shape parameters");
@@ -60,6 +64,8 @@ nlohmann::json bodyToJson(const BodyModel& model, const BodyParams& params,
 
 BodyParams bodyParamsFromJson(const nlohmann::json& json, const BodyModel& model) {
   if (!json.is_object()) throw InputError("body JSON: expected an object");
+  if (static_cast<int>(model.shapeParams.size()) != model.numShapes())
+    throw InputError("body JSON: body model '" + model.source + "' lacks shape parameter names");
   BodyParams p;
   p.shape = Eigen::VectorXd::Zero(model.numShapes());
   p.pose = BodyPose::zero(model.numJoints());

@@ -144,6 +144,13 @@ Eigen::Vector3d matrixToAxisAngle(const Eigen::Matrix3d& R) {
 
 Poser::Poser(const BodyModel& model) : model_(model) {
   const int nj = model.numJoints(), ns = model.numShapes(), nv = model.numVertices();
+  if (nj < 1) throw InputError(describe(model) + ": has no joints");
+  for (int j = 0; j < nj; ++j)
+    if (model.parents[j] >= j || (j > 0 && model.parents[j] < 0) ||
+        (j == 0 && model.parents[0] != -1))
+      throw InputError(describe(model) + ": joint " + std::to_string(j) + " has parent " +
+                       std::to_string(model.parents[j]) +
+                       ": the root must be joint 0 and parents must precede their children");
   if (model.jointRegressor.rows() != nj || model.jointRegressor.cols() != nv)
     throw InputError(describe(model) + ": joint regressor is " +
                      std::to_string(model.jointRegressor.rows()) + "×" +
@@ -581,6 +588,9 @@ BodyPose readPoseJson(const std::filesystem::path& path, const BodyModel& model)
 void writePoseJson(const std::filesystem::path& path, const BodyModel& model,
                    const BodyPose& pose) {
   checkPose(model, pose);
+  if (static_cast<int>(model.jointNames.size()) != model.numJoints())
+    throw InputError(describe(model) + ": " + std::to_string(model.jointNames.size()) +
+                     " joint names for " + std::to_string(model.numJoints()) + " joints");
   nlohmann::ordered_json doc;
   for (int j = 0; j < model.numJoints(); ++j)
     doc[model.jointNames[j]] = {pose.axisAngle(j, 0), pose.axisAngle(j, 1), pose.axisAngle(j, 2)};

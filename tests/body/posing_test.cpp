@@ -345,6 +345,11 @@ TEST(Posing, BadParametersThrow) {
   p.pose.axisAngle.resize(3, 3);
   EXPECT_THROW(posedJointJacobian(m, p), InputError);
   EXPECT_THROW(posedVertexJacobian(m, randomParams(m, 1), {m.numVertices()}), InputError);
+  BodyModel cyclic = m;
+  cyclic.parents[2] = 7;  // a parent after its child: FK would read garbage
+  EXPECT_THROW(poseBody(cyclic, randomParams(m, 1)), InputError);
+  BodyModel empty;
+  EXPECT_THROW(poseBody(empty, BodyParams{}), InputError);
 }
 
 double degrees(double rad) {
