@@ -165,8 +165,10 @@ TriMesh meshMannequinImplicit(const MannequinImplicit& body, double voxel) {
     throw InputError("mannequin: voxel size " + std::to_string(voxel) +
                      " m is outside 2–100 mm");
   openvdb::initialize();
-  const Eigen::Vector3d lo = body.boxMin(), hi = body.boxMax();
+  Eigen::Vector3d lo = body.boxMin();
+  const Eigen::Vector3d hi = body.boxMax();
   const Eigen::Vector3i n = ((hi - lo) / voxel).array().ceil().cast<int>() + 1;
+  lo.x() = -0.5 * (n.x() - 1) * voxel;  // samples symmetric about x = 0: a mirror-symmetric mesh
   const double band = 3 * voxel;
   constexpr int kBlock = 8;
   const Eigen::Vector3i nb = (n.array() + kBlock - 1) / kBlock;
@@ -397,7 +399,7 @@ BodyModel makeMannequin(const MannequinOptions& options) {
   const double s = options.base.height / 1.75;
 
   // --- template: mesh once, correcting the voxel size to hit the target vertex count
-  double voxel = std::sqrt(1.9 * s * s / options.targetVertices);
+  double voxel = std::sqrt(2.6 * s * s / options.targetVertices);
   TriMesh mesh = meshMannequinImplicit(body, voxel);
   for (int retry = 0; retry < 2; ++retry) {
     const double ratio = static_cast<double>(mesh.numVertices()) / options.targetVertices;
@@ -430,7 +432,7 @@ BodyModel makeMannequin(const MannequinOptions& options) {
     for (int sign = 0; sign < 2; ++sign) {
       Eigen::VectorXd beta = Eigen::VectorXd::Zero(kMannequinShapes);
       beta[p] = sign == 0 ? 1.0 : -1.0;
-      const MannequinImplicit varied(mannequinMeasurements(options.base, beta));
+      const MannequinImplicit varied(mannequinMeasurements(options.base, beta), &body);
       moved[sign].resize(nv, 3);
       tbb::parallel_for(0, nv, [&](int v) {
         Eigen::Vector3d q = Eigen::Vector3d::Zero();

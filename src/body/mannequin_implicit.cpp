@@ -1,5 +1,6 @@
 #include "body/mannequin_implicit.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -144,7 +145,9 @@ MannequinLevels mannequinLevels(const MannequinMeasurements& m) {
 
 // === MannequinImplicit
 
-MannequinImplicit::MannequinImplicit(const MannequinMeasurements& m) : m_(m) {
+MannequinImplicit::MannequinImplicit(const MannequinMeasurements& m,
+                                     const MannequinImplicit* warmStart)
+    : m_(m) {
   const double vals[] = {m.height, m.chest,  m.waist, m.hip,   m.shoulder,
                          m.armLength, m.inseam, m.neck,  m.thigh, m.upperArm};
   for (double v : vals)
@@ -167,7 +170,7 @@ MannequinImplicit::MannequinImplicit(const MannequinMeasurements& m) : m_(m) {
         "lengths 0.8–1.2× the defaults scaled by height/1.75 m); request a plausible body");
 
   // Calibration: adjust internal knobs until a tape on the implicit surface reads m.
-  Knobs k;
+  Knobs k = warmStart ? warmStart->knobs_ : Knobs{};
   const MannequinLevels lv = mannequinLevels(m);
   for (int it = 0; it < 12; ++it) {
     build(k);
@@ -185,7 +188,10 @@ MannequinImplicit::MannequinImplicit(const MannequinMeasurements& m) : m_(m) {
                                  std::abs(chest - m.chest), std::abs(waist - m.waist),
                                  std::abs(hip - m.hip), std::abs(thigh - m.thigh),
                                  std::abs(arm - m.upperArm), std::abs(neck - m.neck)});
-    if (err < 1e-7) return;
+    if (err < 1e-6) {
+      knobs_ = k;
+      return;
+    }
     k.headShift += m.height - top;
     k.crotchShift += m.inseam - cr;
     k.chest *= m.chest / chest;
@@ -196,6 +202,7 @@ MannequinImplicit::MannequinImplicit(const MannequinMeasurements& m) : m_(m) {
     k.neck *= m.neck / neck;
   }
   build(k);
+  knobs_ = k;
 }
 
 void MannequinImplicit::build(const Knobs& kn) {
@@ -209,31 +216,31 @@ void MannequinImplicit::build(const Knobs& kn) {
   limbBlend_.clear();
 
   const double ySj = 0.805 * H, yNb = 0.845 * H, yAp = 0.765 * H, yUb = 0.68 * H;
-  const double yTop = 0.81 * H, yHipJ = m.inseam + 0.085 * s, yPelvis = yHipJ + 0.075 * s;
+  const double yTop = 0.80 * H, yHipJ = m.inseam + 0.085 * s, yPelvis = yHipJ + 0.075 * s;
   const double headTop = H + kn.headShift;
 
   // --- torso: horizontal elliptical sections (half width a, half depth b, centre z)
   const double ac = 0.170 * m.chest / 0.96 * kn.chest, bc = 0.135 * m.chest / 0.96 * kn.chest;
   const double aw = 0.145 * m.waist / 0.82 * kn.waist, bw = 0.115 * m.waist / 0.82 * kn.waist;
   const double ah = 0.180 * m.hip / 0.98 * kn.hip, bh = 0.130 * m.hip / 0.98 * kn.hip;
-  const double crotchCap = 0.035 * s;
+  const double crotchCap = 0.05 * s;
   const double y0 = m.inseam + kn.crotchShift + crotchCap;
   {
-    Loft t = makeLoft({0, y0, 0}, {0, yTop, 0}, X);
+    Loft t = makeLoft({0, y0, 0}, {0, yTop, 0}, X, -1.0);  // v = +Z (front)
     const double L = yTop - y0;
     auto knot = [&](double y, double a, double b, double cz) {
       t.t.push_back((y - y0) / L);
       t.sec.emplace_back(a, b, 0, cz);
     };
-    knot(y0, 0.62 * ah, 0.78 * bh, -0.008 * s);
+    knot(y0, 0.75 * ah, 0.88 * bh, -0.02 * s);
     knot(lv.hip, ah, bh, -0.018 * s);
     knot(lv.waist, aw, bw, 0.0);
     knot(yUb, std::max(0.93 * ac, 1.01 * aw), std::max(0.9 * bc, 1.01 * bw), 0.006 * s);
     knot(lv.chest, ac, bc, 0.012 * s);
     knot(yAp, 0.96 * ac, 0.92 * bc, 0.0);
-    knot(yTop, 0.80 * ac, 0.70 * bc, -0.015 * s);
+    knot(yTop, 0.75 * ac, 0.72 * bc, -0.015 * s);
     t.capStart = crotchCap;
-    t.capEnd = 0.05 * s;
+    t.capEnd = 0.1 * s;
     t.blend = 0.03 * s;
     t.bones = {{(yPelvis - y0) / L, kMjPelvis},
                {(lv.waist - y0) / L, kMjSpine},
@@ -575,7 +582,7 @@ double MannequinImplicit::sectionGirth(const Eigen::Vector3d& centre,
                                               : Eigen::Vector3d::UnitY());
   e1 = (e1 - e1.dot(n) * n).normalized();
   const Eigen::Vector3d e2 = n.cross(e1);
-  constexpr int kRays = 160;
+  constexpr int kRays = 120;
   std::vector<Eigen::Vector2d> pts;
   double r = 0.02;
   for (int i = 0; i < kRays; ++i) {
@@ -592,7 +599,7 @@ double MannequinImplicit::sectionGirth(const Eigen::Vector3d& centre,
       lo = std::max(lo, 0.0);
       hi = lo + step;
     }
-    for (int b = 0; b < 30; ++b) {
+    for (int b = 0; b < 20; ++b) {
       const double mid = 0.5 * (lo + hi);
       (inside(mid) ? lo : hi) = mid;
     }

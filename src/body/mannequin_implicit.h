@@ -71,7 +71,10 @@ struct LoftCoords {
 
 class MannequinImplicit {
  public:
-  explicit MannequinImplicit(const MannequinMeasurements& m);
+  // Throws InputError for implausible measurements. `warmStart`: a nearby body whose
+  // calibration starts this one's (faster, same result).
+  explicit MannequinImplicit(const MannequinMeasurements& m,
+                             const MannequinImplicit* warmStart = nullptr);
 
   double value(const Eigen::Vector3d& p) const;     // < 0 inside, ≈ signed distance near 0
   Eigen::Vector3d gradient(const Eigen::Vector3d& p) const;  // central differences
@@ -118,6 +121,7 @@ class MannequinImplicit {
   std::vector<double> limbBlend_;
   Eigen::Matrix<double, kMjCount, 3> joints_;
   double crotchZ_ = 0;
+  Knobs knobs_;
 };
 
 }  // namespace s2p
