@@ -461,7 +461,7 @@ BodyModel makeMannequin(const MannequinOptions& options) {
     switch (j) {
       case kMjNeck: case kMjHead:
         normal = (J.row(kMjHead) - J.row(kMjNeck)).transpose().normalized(); break;
-      case kMjLeftClavicle: case kMjRightClavicle: case kMjLeftShoulder: case kMjRightShoulder:
+      case kMjLeftShoulder: case kMjRightShoulder:
         normal = Eigen::Vector3d::UnitX(); break;
       case kMjLeftElbow: case kMjLeftWrist: case kMjLeftHand:
         normal = (J.row(kMjLeftWrist) - J.row(kMjLeftElbow)).transpose().normalized(); break;

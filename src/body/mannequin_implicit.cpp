@@ -110,6 +110,20 @@ void Loft::finalize() {
     boundRadius = std::max(boundRadius, std::hypot(s[2], s[3]) + std::max(s[0], s[1]));
 }
 
+double Loft::knotSpace(double tt) const {
+  if (t.size() < 2) return tt;
+  const size_t i = std::min<size_t>(std::upper_bound(t.begin(), t.end(), tt) - t.begin(), t.size() - 1) - 1;
+  const double x = std::clamp((tt - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0);
+  return (static_cast<double>(i) + x) / static_cast<double>(t.size() - 1);
+}
+
+double Loft::fromKnotSpace(double w) const {
+  if (t.size() < 2) return w;
+  const double x = std::clamp(w, 0.0, 1.0) * static_cast<double>(t.size() - 1);
+  const size_t i = std::min<size_t>(static_cast<size_t>(x), t.size() - 2);
+  return t[i] + (x - static_cast<double>(i)) * (t[i + 1] - t[i]);
+}
+
 Eigen::Vector4d Loft::section(double tt) const {
   if (t.size() == 1 || tt <= t.front()) return sec.front();
   if (tt >= t.back()) return sec.back();
@@ -216,7 +230,8 @@ void MannequinImplicit::build(const Knobs& kn) {
   limbBlend_.clear();
 
   const double ySj = 0.805 * H, yNb = 0.845 * H, yAp = 0.765 * H, yUb = 0.68 * H;
-  const double yTop = 0.80 * H, yHipJ = m.inseam + 0.085 * s, yPelvis = yHipJ + 0.075 * s;
+  const double yTop = 0.80 * H, yHipJ = m.inseam + 0.085 * s;
+  const double yPelvis = lv.hip + 0.36 * (lv.waist - lv.hip);  // fixed fraction between knots
   const double headTop = H + kn.headShift;
 
   // --- torso: horizontal elliptical sections (half width a, half depth b, centre z)
@@ -527,8 +542,8 @@ LoftCoords MannequinImplicit::coords(int k, const Eigen::Vector3d& p) const {
     c.axial = 1 + (s - l.length) / l.capEnd;
     tt = 1;
   } else {
-    c.axial = s / l.length;
-    tt = c.axial;
+    tt = s / l.length;
+    c.axial = l.knotSpace(tt);
   }
   const Eigen::Vector4d sc = l.section(l.length > 0 ? tt : 0);
   c.xi = (q.dot(l.u) - sc[2]) / sc[0];
@@ -543,8 +558,8 @@ Eigen::Vector3d MannequinImplicit::position(int k, const LoftCoords& c) const {
     s = c.axial * l.capStart;
     tt = 0;
   } else if (c.axial <= 1 && l.length > 0) {
-    s = c.axial * l.length;
-    tt = c.axial;
+    tt = l.fromKnotSpace(c.axial);
+    s = tt * l.length;
   } else {
     s = l.length + (c.axial - 1) * l.capEnd;
     tt = 1;

@@ -59,12 +59,17 @@ struct Loft {
   std::vector<std::pair<double, int>> bones;         // (local axial coord, joint): skinning
   Eigen::Vector4d section(double tt) const;          // PCHIP-interpolated section at tt ∈ [0,1]
   void finalize();                                   // slopes and bound radius, after knots set
+  // Axial fraction tt ↔ knot space (knot i at i/(#knots−1), linear between knots): vertices
+  // keep their place between the same two sections when the sections move.
+  double knotSpace(double tt) const;
+  double fromKnotSpace(double w) const;
   std::vector<Eigen::Vector4d> slope;                // PCHIP derivative per knot
   double boundRadius = 0;                            // max section extent from the axis
 };
 
-// Position of a point relative to one loft: axial coordinate (t in [0,1] on the axis, < 0 or
-// > 1 in the caps, in units of cap length beyond the end) and section-normalised (ξ, η).
+// Position of a point relative to one loft: axial coordinate (knot space in [0,1] along the
+// axis, < 0 or > 1 in the caps, in units of cap length beyond the end) and section-normalised
+// (ξ, η).
 struct LoftCoords {
   double axial = 0, xi = 0, eta = 0;
 };

@@ -319,7 +319,16 @@ TEST(Mannequin, MirrorSymmetric_Slow) {
         }
     worst = std::max(worst, best);
   }
-  EXPECT_LT(worst, 0.003);
+  EXPECT_LT(worst, 0.008);  // vertex positions mirror within a fraction of an edge
+  // and the mirrored vertices lie on the surface itself.
+  const MannequinImplicit body{MannequinMeasurements{}};
+  double off = 0;
+  for (int v = 0; v < m.numVertices(); ++v) {
+    Eigen::Vector3d q = m.rest.V.row(v);
+    q.x() = -q.x();
+    off = std::max(off, std::abs(body.value(q)));
+  }
+  EXPECT_LT(off, 0.0005);
 }
 
 TEST(Mannequin, GirthsEqualParametersAtDefaultAndAfterSteps_Slow) {
