@@ -515,16 +515,23 @@ Eigen::Vector3d MannequinImplicit::gradient(const Eigen::Vector3d& p) const {
 
 Eigen::Vector3d MannequinImplicit::project(const Eigen::Vector3d& p0, int iterations) const {
   Eigen::Vector3d p = p0;
-  Eigen::Vector3d g = gradient(p);
   double f = value(p);
-  for (int it = 0; it < iterations && std::abs(f) > 1e-9; ++it) {
+  Eigen::Vector3d g;
+  for (int it = 0; it < iterations && std::abs(f) > 1e-10; ++it) {
+    if (it % 2 == 0) {  // forward-difference gradient, refreshed every other step
+      constexpr double h = 1e-6;
+      for (int i = 0; i < 3; ++i) {
+        Eigen::Vector3d q = p;
+        q[i] += h;
+        g[i] = (value(q) - f) / h;
+      }
+    }
     const double g2 = g.squaredNorm();
     if (g2 < 1e-12) break;
     Eigen::Vector3d step = f / g2 * g;
     if (step.norm() > 0.02) step *= 0.02 / step.norm();
     p -= step;
     f = value(p);
-    if (it == 0) g = gradient(p);
   }
   return p;
 }
@@ -614,7 +621,7 @@ double MannequinImplicit::sectionGirth(const Eigen::Vector3d& centre,
       lo = std::max(lo, 0.0);
       hi = lo + step;
     }
-    for (int b = 0; b < 20; ++b) {
+    for (int b = 0; b < 16; ++b) {
       const double mid = 0.5 * (lo + hi);
       (inside(mid) ? lo : hi) = mid;
     }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -354,6 +355,27 @@ TEST(Mannequin, GirthsEqualParametersAtDefaultAndAfterSteps_Slow) {
     EXPECT_NEAR(s.neck, want.neck, 0.01) << m.shapeParams[p].name;
     EXPECT_NEAR(s.upperArm, want.upperArm, 0.01) << m.shapeParams[p].name;
   }
+}
+
+// How linear the blend shapes are: girths of the linear model at −6, −2, +2, +6 cm steps
+// against the requested values (printed; all within 1 cm).
+TEST(Mannequin, BlendShapesStayLinearToSixCentimetres_Slow) {
+  const BodyModel& m = defaultMannequin();
+  const int params[] = {1, 2, 3, 7, 8, 9};
+  for (int p : params)
+    for (double step : {-6.0, -2.0, 2.0, 6.0}) {
+      const Eigen::VectorXd beta = unitStep(p, step);
+      const MannequinMeasurements want = mannequinMeasurements({}, beta);
+      const Girths g = measure(m, shaped(m, beta), want);
+      const double got[] = {g.chest, g.waist, g.hip, g.neck, g.thigh, g.upperArm};
+      const double req[] = {want.chest, want.waist, want.hip, want.neck, want.thigh,
+                            want.upperArm};
+      const int idx = p == 1 ? 0 : p == 2 ? 1 : p == 3 ? 2 : p == 7 ? 3 : p == 8 ? 4 : 5;
+      std::printf("  %-9s %+4.0f cm: tape %.4f m, requested %.4f m, error %+.1f mm\n",
+                  m.shapeParams[p].name.c_str(), step, got[idx], req[idx],
+                  1000 * (got[idx] - req[idx]));
+      EXPECT_NEAR(got[idx], req[idx], 0.01) << m.shapeParams[p].name << " " << step;
+    }
 }
 
 // Fit to a requested set of measurements: β from the measurements, read them back.
