@@ -107,8 +107,8 @@ std::string closedManifoldProblem(const TriMesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       const int a = mesh.F(f, k), b = mesh.F(f, (k + 1) % 3);
       if (a == b) return "degenerate face " + std::to_string(f);
-      if (++directed[{a, b}] > 1) return "edge used twice in one direction at face " +
-                                         std::to_string(f);
+      if (++directed[{a, b}] > 1)
+        return "edge used twice in one direction at face " + std::to_string(f);
     }
   for (const auto& [e, c] : directed)
     if (!directed.count({e.second, e.first}))
@@ -162,8 +162,7 @@ Eigen::VectorXd mannequinShapeFor(const MannequinMeasurements& base,
 
 TriMesh meshMannequinImplicit(const MannequinImplicit& body, double voxel) {
   if (!(voxel > 0.002 && voxel < 0.1))
-    throw InputError("mannequin: voxel size " + std::to_string(voxel) +
-                     " m is outside 2–100 mm");
+    throw InputError("mannequin: voxel size " + std::to_string(voxel) + " m is outside 2–100 mm");
   openvdb::initialize();
   Eigen::Vector3d lo = body.boxMin();
   const Eigen::Vector3d hi = body.boxMax();
@@ -226,8 +225,9 @@ TriMesh meshMannequinImplicit(const MannequinImplicit& body, double voxel) {
   // Outward orientation: positive enclosed volume.
   double volume = 0;
   for (int i = 0; i < mesh.numFaces(); ++i)
-    volume += mesh.V.row(mesh.F(i, 0)).dot(
-        Eigen::Vector3d(mesh.V.row(mesh.F(i, 1))).cross(Eigen::Vector3d(mesh.V.row(mesh.F(i, 2)))));
+    volume += mesh.V.row(mesh.F(i, 0))
+                  .dot(Eigen::Vector3d(mesh.V.row(mesh.F(i, 1)))
+                           .cross(Eigen::Vector3d(mesh.V.row(mesh.F(i, 2)))));
   if (volume < 0) mesh.F.col(1).swap(mesh.F.col(2));
 
   // Project onto the exact surface, then tangential relaxation passes re-projected.
@@ -264,7 +264,9 @@ std::vector<std::pair<int, double>> sectionRing(const TriMesh& mesh, const Eigen
   for (int v = 0; v < nv; ++v) s[v] = (mesh.V.row(v).transpose() - p).dot(n);
   // Each crossed face yields a segment between two crossed edges (keys a*nv+b, a<b).
   std::unordered_map<long long, std::vector<long long>> adj;
-  auto key = [&](int a, int b) { return static_cast<long long>(std::min(a, b)) * nv + std::max(a, b); };
+  auto key = [&](int a, int b) {
+    return static_cast<long long>(std::min(a, b)) * nv + std::max(a, b);
+  };
   for (int f = 0; f < mesh.numFaces(); ++f) {
     std::vector<long long> e;
     for (int k = 0; k < 3; ++k) {
@@ -424,7 +426,8 @@ BodyModel makeMannequin(const MannequinOptions& options) {
 
   // --- shape blend shapes: central differences of vertices carried by primitive coordinates
   std::vector<Attachment> att(nv);
-  tbb::parallel_for(0, nv, [&](int v) { att[v] = attach(body, mesh.V.row(v).transpose(), 0.005 * s); });
+  tbb::parallel_for(0, nv,
+                    [&](int v) { att[v] = attach(body, mesh.V.row(v).transpose(), 0.005 * s); });
   model.shapeDirs.setZero(3 * nv, kMannequinShapes);
   for (int p = 0; p < kMannequinShapes; ++p) {
     model.shapeParams.push_back({paramInfo()[p].name, paramInfo()[p].description, -10, 10});
@@ -459,20 +462,40 @@ BodyModel makeMannequin(const MannequinOptions& options) {
     const Eigen::Vector3d pj = J.row(j).transpose();
     Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
     switch (j) {
-      case kMjNeck: case kMjHead:
-        normal = (J.row(kMjHead) - J.row(kMjNeck)).transpose().normalized(); break;
-      case kMjLeftShoulder: case kMjRightShoulder:
-        normal = Eigen::Vector3d::UnitX(); break;
-      case kMjLeftElbow: case kMjLeftWrist: case kMjLeftHand:
-        normal = (J.row(kMjLeftWrist) - J.row(kMjLeftElbow)).transpose().normalized(); break;
-      case kMjRightElbow: case kMjRightWrist: case kMjRightHand:
-        normal = (J.row(kMjRightWrist) - J.row(kMjRightElbow)).transpose().normalized(); break;
-      case kMjLeftHip: case kMjLeftKnee: case kMjLeftAnkle:
-        normal = (J.row(kMjLeftAnkle) - J.row(kMjLeftHip)).transpose().normalized(); break;
-      case kMjRightHip: case kMjRightKnee: case kMjRightAnkle:
-        normal = (J.row(kMjRightAnkle) - J.row(kMjRightHip)).transpose().normalized(); break;
-      case kMjLeftToe: case kMjRightToe: normal = Eigen::Vector3d::UnitZ(); break;
-      default: break;
+      case kMjNeck:
+      case kMjHead:
+        normal = (J.row(kMjHead) - J.row(kMjNeck)).transpose().normalized();
+        break;
+      case kMjLeftShoulder:
+      case kMjRightShoulder:
+        normal = Eigen::Vector3d::UnitX();
+        break;
+      case kMjLeftElbow:
+      case kMjLeftWrist:
+      case kMjLeftHand:
+        normal = (J.row(kMjLeftWrist) - J.row(kMjLeftElbow)).transpose().normalized();
+        break;
+      case kMjRightElbow:
+      case kMjRightWrist:
+      case kMjRightHand:
+        normal = (J.row(kMjRightWrist) - J.row(kMjRightElbow)).transpose().normalized();
+        break;
+      case kMjLeftHip:
+      case kMjLeftKnee:
+      case kMjLeftAnkle:
+        normal = (J.row(kMjLeftAnkle) - J.row(kMjLeftHip)).transpose().normalized();
+        break;
+      case kMjRightHip:
+      case kMjRightKnee:
+      case kMjRightAnkle:
+        normal = (J.row(kMjRightAnkle) - J.row(kMjRightHip)).transpose().normalized();
+        break;
+      case kMjLeftToe:
+      case kMjRightToe:
+        normal = Eigen::Vector3d::UnitZ();
+        break;
+      default:
+        break;
     }
     auto ring = sectionRing(mesh, pj, normal);
     if (ring.size() < 4) {  // fallback: the 8 nearest vertices
@@ -489,13 +512,14 @@ BodyModel makeMannequin(const MannequinOptions& options) {
 
   // --- skinning weights: each primitive's bone ladder, blended softly, smoothed, top 4
   std::vector<Attachment> attSkin(nv);
-  tbb::parallel_for(0, nv, [&](int v) { attSkin[v] = attach(body, mesh.V.row(v).transpose(), 0.012 * s); });
+  tbb::parallel_for(
+      0, nv, [&](int v) { attSkin[v] = attach(body, mesh.V.row(v).transpose(), 0.012 * s); });
   Eigen::MatrixXd W = Eigen::MatrixXd::Zero(nv, kMjCount);
   for (int v = 0; v < nv; ++v)
     for (int i = 0; i < 4 && attSkin[v].prim[i] >= 0; ++i) {
       const Loft& l = body.primitive(attSkin[v].prim[i]);
-      const double c = (mesh.V.row(v).transpose() - l.origin).dot(l.axis) /
-                       (l.length > 0 ? l.length : l.capEnd);
+      const double c =
+          (mesh.V.row(v).transpose() - l.origin).dot(l.axis) / (l.length > 0 ? l.length : l.capEnd);
       const auto& b = l.bones;
       const double w = attSkin[v].weight[i];
       if (c <= b.front().first) {
@@ -554,8 +578,8 @@ BodyModel makeMannequin(const MannequinOptions& options) {
     const Eigen::Vector3d wrist = J.row(jw).transpose();
     const Eigen::Vector3d dir = (J.row(jw) - J.row(je)).transpose().normalized();
     model.canonical[static_cast<int>(left ? Canonical::LeftHandTip : Canonical::RightHandTip)]
-        .vertices = extremeVertices(left ? leftArm : rightArm,
-                                    [&](int v) { return (V(v) - wrist).dot(dir); });
+        .vertices =
+        extremeVertices(left ? leftArm : rightArm, [&](int v) { return (V(v) - wrist).dot(dir); });
     const auto& foot = left ? leftFoot : rightFoot;
     model.canonical[static_cast<int>(left ? Canonical::LeftToeTip : Canonical::RightToeTip)]
         .vertices = extremeVertices(foot, [&](int v) { return V(v).z(); });

@@ -14,8 +14,8 @@
 namespace s2p {
 
 struct MannequinOptions {
-  int targetVertices = 15000;     // template size, 10k–20k for the default body
-  MannequinMeasurements base;     // the body at β = 0
+  int targetVertices = 15000;  // template size, 10k–20k for the default body
+  MannequinMeasurements base;  // the body at β = 0
 };
 
 // Parameter order of the mannequin's shape vector: height, chest, waist, hip, shoulder, arm,

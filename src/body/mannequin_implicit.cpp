@@ -112,7 +112,8 @@ void Loft::finalize() {
 
 double Loft::knotSpace(double tt) const {
   if (t.size() < 2) return tt;
-  const size_t i = std::min<size_t>(std::upper_bound(t.begin(), t.end(), tt) - t.begin(), t.size() - 1) - 1;
+  const size_t i =
+      std::min<size_t>(std::upper_bound(t.begin(), t.end(), tt) - t.begin(), t.size() - 1) - 1;
   const double x = std::clamp((tt - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0);
   return (static_cast<double>(i) + x) / static_cast<double>(t.size() - 1);
 }
@@ -137,18 +138,18 @@ Eigen::Vector4d Loft::section(double tt) const {
 // === Skeleton tables
 
 const std::array<int, kMjCount>& mannequinParents() {
-  static const std::array<int, kMjCount> p = {-1, 0,  1,  2,  3,  2,  2,  5,  6,  7,  8, 9,
+  static const std::array<int, kMjCount> p = {-1, 0, 1, 2,  3,  2,  2,  5,  6,  7,  8, 9,
                                               10, 0, 0, 13, 14, 15, 16, 17, 18, 11, 12};
   return p;
 }
 
 const std::array<const char*, kMjCount>& mannequinJointNames() {
   static const std::array<const char*, kMjCount> n = {
-      "pelvis",         "spine",          "chest",          "neck",        "head",
-      "left_clavicle",  "right_clavicle", "left_shoulder",  "right_shoulder",
-      "left_elbow",     "right_elbow",    "left_wrist",     "right_wrist", "left_hip",
-      "right_hip",      "left_knee",      "right_knee",     "left_ankle",  "right_ankle",
-      "left_toe",       "right_toe",      "left_hand",      "right_hand"};
+      "pelvis",        "spine",          "chest",         "neck",           "head",
+      "left_clavicle", "right_clavicle", "left_shoulder", "right_shoulder", "left_elbow",
+      "right_elbow",   "left_wrist",     "right_wrist",   "left_hip",       "right_hip",
+      "left_knee",     "right_knee",     "left_ankle",    "right_ankle",    "left_toe",
+      "right_toe",     "left_hand",      "right_hand"};
   return n;
 }
 
@@ -162,7 +163,7 @@ MannequinLevels mannequinLevels(const MannequinMeasurements& m) {
 MannequinImplicit::MannequinImplicit(const MannequinMeasurements& m,
                                      const MannequinImplicit* warmStart)
     : m_(m) {
-  const double vals[] = {m.height, m.chest,  m.waist, m.hip,   m.shoulder,
+  const double vals[] = {m.height,    m.chest,  m.waist, m.hip,   m.shoulder,
                          m.armLength, m.inseam, m.neck,  m.thigh, m.upperArm};
   for (double v : vals)
     if (!std::isfinite(v) || v <= 0)
@@ -198,10 +199,10 @@ MannequinImplicit::MannequinImplicit(const MannequinMeasurements& m,
     const double thigh = sectionGirth(thighTapeCentre(true), Eigen::Vector3d::UnitY());
     const double arm = sectionGirth(cArm, nArm);
     const double neck = sectionGirth(cNeck, nNeck);
-    const double err = std::max({std::abs(top - m.height), std::abs(cr - m.inseam),
-                                 std::abs(chest - m.chest), std::abs(waist - m.waist),
-                                 std::abs(hip - m.hip), std::abs(thigh - m.thigh),
-                                 std::abs(arm - m.upperArm), std::abs(neck - m.neck)});
+    const double err =
+        std::max({std::abs(top - m.height), std::abs(cr - m.inseam), std::abs(chest - m.chest),
+                  std::abs(waist - m.waist), std::abs(hip - m.hip), std::abs(thigh - m.thigh),
+                  std::abs(arm - m.upperArm), std::abs(neck - m.neck)});
     if (err < 1e-6) {
       knobs_ = k;
       return;
@@ -287,9 +288,9 @@ void MannequinImplicit::build(const Knobs& kn) {
                                  Eigen::Vector3d(0.077, 0.097, 0.105) * s, 1, 0.02 * s, kMjHead));
   prims_.push_back(makeEllipsoid({0, headTop - 0.165 * s, 0.020 * s}, Y, X,
                                  Eigen::Vector3d(0.056, 0.068, 0.065) * s, 1, 0.025 * s, kMjHead));
-  prims_.push_back(makeEllipsoid({0, headTop - 0.128 * s, 0.083 * s},
-                                 Eigen::Vector3d(0, 1, 0.35), X,
-                                 Eigen::Vector3d(0.011, 0.017, 0.024) * s, 1, 0.012 * s, kMjHead));
+  prims_.push_back(makeEllipsoid({0, headTop - 0.128 * s, 0.083 * s}, Eigen::Vector3d(0, 1, 0.35),
+                                 X, Eigen::Vector3d(0.011, 0.017, 0.024) * s, 1, 0.012 * s,
+                                 kMjHead));
   for (double side : {1.0, -1.0})
     prims_.push_back(makeEllipsoid({side * 0.076 * s, headTop - 0.115 * s, -0.012 * s}, Y, X,
                                    Eigen::Vector3d(0.010, 0.018, 0.028) * s, side, 0.012 * s,
@@ -347,8 +348,8 @@ void MannequinImplicit::build(const Knobs& kn) {
     prims_.push_back(ua);
     Loft fa = makeLoft(E, W, up, side);
     fa.t = {0.0, 0.3, 1.0};
-    fa.sec = {{0.036 * s, 0.04 * s, 0, 0}, {0.039 * s, 0.043 * s, 0, 0},
-              {0.02 * s, 0.029 * s, 0, 0}};
+    fa.sec = {
+        {0.036 * s, 0.04 * s, 0, 0}, {0.039 * s, 0.043 * s, 0, 0}, {0.02 * s, 0.029 * s, 0, 0}};
     fa.capStart = 0.035 * s;
     fa.capEnd = 0.02 * s;
     fa.blend = 0.025 * s;
@@ -357,8 +358,10 @@ void MannequinImplicit::build(const Knobs& kn) {
     prims_.push_back(fa);
     Loft hd = makeLoft(W, W + 0.165 * s * dir, up, side);
     hd.t = {0.0, 0.4, 0.65, 1.0};
-    hd.sec = {{0.017 * s, 0.029 * s, 0, 0}, {0.0145 * s, 0.044 * s, 0, 0},
-              {0.0125 * s, 0.042 * s, 0, 0}, {0.0105 * s, 0.035 * s, 0, 0}};
+    hd.sec = {{0.017 * s, 0.029 * s, 0, 0},
+              {0.0145 * s, 0.044 * s, 0, 0},
+              {0.0125 * s, 0.042 * s, 0, 0},
+              {0.0105 * s, 0.035 * s, 0, 0}};
     hd.capStart = 0.02 * s;
     hd.capEnd = 0.025 * s;
     hd.blend = 0.015 * s;
@@ -391,8 +394,8 @@ void MannequinImplicit::build(const Knobs& kn) {
     const Eigen::Vector3d Hj(side * 0.085 * s * std::sqrt(m.hip / (0.98 * s)), yHipJ, -0.005 * s);
     const double legLen = (yHipJ - 0.075 * s) / std::cos(spread);
     const Eigen::Vector3d K = Hj + 0.5 * legLen * dir, A = Hj + legLen * dir;
-    const Eigen::Vector3d fd = Eigen::Vector3d(side * std::sin(8 * kPi / 180), 0,
-                                               std::cos(8 * kPi / 180));
+    const Eigen::Vector3d fd =
+        Eigen::Vector3d(side * std::sin(8 * kPi / 180), 0, std::cos(8 * kPi / 180));
     const Eigen::Vector3d heel = Eigen::Vector3d(A.x(), 0, A.z()) - 0.045 * s * fd;
     joints_.row(jh) = Hj;
     joints_.row(jk) = K;
@@ -403,7 +406,9 @@ void MannequinImplicit::build(const Knobs& kn) {
     const double tKey = (0.135 * s / std::cos(spread)) / (0.5 * legLen);
     Loft tl = makeLoft(Hj, K, Z.cross(dir) * side, side);
     tl.t = {0.0, tKey, 0.75, 1.0};
-    tl.sec = {{0.85 * r, 0.9 * r, 0, 0}, {r, r, 0, 0}, {0.06 * s, 0.063 * s, 0, 0.004 * s},
+    tl.sec = {{0.85 * r, 0.9 * r, 0, 0},
+              {r, r, 0, 0},
+              {0.06 * s, 0.063 * s, 0, 0.004 * s},
               {0.05 * s, 0.052 * s, 0, 0}};
     tl.capStart = 0.06 * s;
     tl.capEnd = 0.045 * s;
@@ -413,8 +418,10 @@ void MannequinImplicit::build(const Knobs& kn) {
     prims_.push_back(tl);
     Loft cl = makeLoft(K, A, Z.cross(dir) * side, side);
     cl.t = {0.0, 0.3, 0.8, 1.0};
-    cl.sec = {{0.05 * s, 0.052 * s, 0, 0}, {0.052 * s, 0.058 * s, 0, -0.012 * s},
-              {0.036 * s, 0.038 * s, 0, 0}, {0.032 * s, 0.035 * s, 0, 0}};
+    cl.sec = {{0.05 * s, 0.052 * s, 0, 0},
+              {0.052 * s, 0.058 * s, 0, -0.012 * s},
+              {0.036 * s, 0.038 * s, 0, 0},
+              {0.032 * s, 0.035 * s, 0, 0}};
     cl.capStart = 0.04 * s;
     cl.capEnd = 0.03 * s;
     cl.blend = 0.03 * s;
@@ -473,8 +480,7 @@ double MannequinImplicit::primitiveValue(int k, const Eigen::Vector3d& p) const 
   return std::max(d, bound(k, p));
 }
 
-double MannequinImplicit::chainValue(int begin, int end, const Eigen::Vector3d& p,
-                                     double) const {
+double MannequinImplicit::chainValue(int begin, int end, const Eigen::Vector3d& p, double) const {
   double acc = kFar;
   for (int k = begin; k < end; ++k) {
     const double blend = prims_[k].blend;
@@ -578,9 +584,8 @@ Eigen::Vector3d MannequinImplicit::position(int k, const LoftCoords& c) const {
 Eigen::Vector3d MannequinImplicit::boxMin() const {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(kFar);
   for (const Loft& l : prims_)
-    for (const Eigen::Vector3d& e :
-         {Eigen::Vector3d(l.origin - l.capStart * l.axis),
-          Eigen::Vector3d(l.origin + (l.length + l.capEnd) * l.axis)})
+    for (const Eigen::Vector3d& e : {Eigen::Vector3d(l.origin - l.capStart * l.axis),
+                                     Eigen::Vector3d(l.origin + (l.length + l.capEnd) * l.axis)})
       lo = lo.cwiseMin(e - Eigen::Vector3d::Constant(l.boundRadius + 0.02));
   return lo;
 }
@@ -588,9 +593,8 @@ Eigen::Vector3d MannequinImplicit::boxMin() const {
 Eigen::Vector3d MannequinImplicit::boxMax() const {
   Eigen::Vector3d hi = Eigen::Vector3d::Constant(-kFar);
   for (const Loft& l : prims_)
-    for (const Eigen::Vector3d& e :
-         {Eigen::Vector3d(l.origin - l.capStart * l.axis),
-          Eigen::Vector3d(l.origin + (l.length + l.capEnd) * l.axis)})
+    for (const Eigen::Vector3d& e : {Eigen::Vector3d(l.origin - l.capStart * l.axis),
+                                     Eigen::Vector3d(l.origin + (l.length + l.capEnd) * l.axis)})
       hi = hi.cwiseMax(e + Eigen::Vector3d::Constant(l.boundRadius + 0.02));
   return hi;
 }
@@ -600,8 +604,8 @@ Eigen::Vector3d MannequinImplicit::boxMax() const {
 double MannequinImplicit::sectionGirth(const Eigen::Vector3d& centre,
                                        const Eigen::Vector3d& normal) const {
   const Eigen::Vector3d n = normal.normalized();
-  Eigen::Vector3d e1 = (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX()
-                                              : Eigen::Vector3d::UnitY());
+  Eigen::Vector3d e1 =
+      (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY());
   e1 = (e1 - e1.dot(n) * n).normalized();
   const Eigen::Vector3d e2 = n.cross(e1);
   constexpr int kRays = 120;

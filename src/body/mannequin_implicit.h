@@ -36,10 +36,30 @@ MannequinLevels mannequinLevels(const MannequinMeasurements& m);
 // Skeleton joints of the mannequin, parents before children; the first 19 follow
 // Canonical's order (pelvis … right_ankle).
 enum MannequinJoint : int {
-  kMjPelvis, kMjSpine, kMjChest, kMjNeck, kMjHead, kMjLeftClavicle, kMjRightClavicle,
-  kMjLeftShoulder, kMjRightShoulder, kMjLeftElbow, kMjRightElbow, kMjLeftWrist, kMjRightWrist,
-  kMjLeftHip, kMjRightHip, kMjLeftKnee, kMjRightKnee, kMjLeftAnkle, kMjRightAnkle,
-  kMjLeftToe, kMjRightToe, kMjLeftHand, kMjRightHand, kMjCount
+  kMjPelvis,
+  kMjSpine,
+  kMjChest,
+  kMjNeck,
+  kMjHead,
+  kMjLeftClavicle,
+  kMjRightClavicle,
+  kMjLeftShoulder,
+  kMjRightShoulder,
+  kMjLeftElbow,
+  kMjRightElbow,
+  kMjLeftWrist,
+  kMjRightWrist,
+  kMjLeftHip,
+  kMjRightHip,
+  kMjLeftKnee,
+  kMjRightKnee,
+  kMjLeftAnkle,
+  kMjRightAnkle,
+  kMjLeftToe,
+  kMjRightToe,
+  kMjLeftHand,
+  kMjRightHand,
+  kMjCount
 };
 const std::array<int, kMjCount>& mannequinParents();
 const std::array<const char*, kMjCount>& mannequinJointNames();
@@ -63,8 +83,8 @@ struct Loft {
   // keep their place between the same two sections when the sections move.
   double knotSpace(double tt) const;
   double fromKnotSpace(double w) const;
-  std::vector<Eigen::Vector4d> slope;                // PCHIP derivative per knot
-  double boundRadius = 0;                            // max section extent from the axis
+  std::vector<Eigen::Vector4d> slope;  // PCHIP derivative per knot
+  double boundRadius = 0;              // max section extent from the axis
 };
 
 // Position of a point relative to one loft: axial coordinate (knot space in [0,1] along the
@@ -81,7 +101,7 @@ class MannequinImplicit {
   explicit MannequinImplicit(const MannequinMeasurements& m,
                              const MannequinImplicit* warmStart = nullptr);
 
-  double value(const Eigen::Vector3d& p) const;     // < 0 inside, ≈ signed distance near 0
+  double value(const Eigen::Vector3d& p) const;  // < 0 inside, ≈ signed distance near 0
   Eigen::Vector3d gradient(const Eigen::Vector3d& p) const;  // central differences
   // Newton steps along the gradient onto the zero level set.
   Eigen::Vector3d project(const Eigen::Vector3d& p, int iterations = 4) const;

@@ -90,8 +90,7 @@ double tapeGirth(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eig
   }
   auto at = [&](const std::pair<int, int>& e) {
     const double sa = side(e.first), sb = side(e.second), l = sa / (sa - sb);
-    const Eigen::Vector3d q =
-        ((1 - l) * V.row(e.first) + l * V.row(e.second)).transpose() - p;
+    const Eigen::Vector3d q = ((1 - l) * V.row(e.first) + l * V.row(e.second)).transpose() - p;
     return Eigen::Vector2d(q.dot(e1), q.dot(e2));
   };
   std::set<std::pair<int, int>> seen;
@@ -160,8 +159,8 @@ void expectClosedSphere(const TriMesh& mesh) {
     if (c != 1 || it == directed.end() || it->second != 1) ++bad;
   }
   EXPECT_EQ(bad, 0) << "edges not shared by exactly two oppositely oriented faces";
-  const long long chi = mesh.numVertices() - static_cast<long long>(undirected.size()) +
-                        mesh.numFaces();
+  const long long chi =
+      mesh.numVertices() - static_cast<long long>(undirected.size()) + mesh.numFaces();
   EXPECT_EQ(chi, 2);
   // Fans: faces around each vertex form one cycle.
   std::vector<std::unordered_map<int, int>> next(mesh.numVertices());
@@ -368,8 +367,7 @@ TEST(Mannequin, BlendShapesStayLinearToSixCentimetres_Slow) {
       const MannequinMeasurements want = mannequinMeasurements({}, beta);
       const Girths g = measure(m, shaped(m, beta), want);
       const double got[] = {g.chest, g.waist, g.hip, g.neck, g.thigh, g.upperArm};
-      const double req[] = {want.chest, want.waist, want.hip, want.neck, want.thigh,
-                            want.upperArm};
+      const double req[] = {want.chest, want.waist, want.hip, want.neck, want.thigh, want.upperArm};
       const int idx = p == 1 ? 0 : p == 2 ? 1 : p == 3 ? 2 : p == 7 ? 3 : p == 8 ? 4 : 5;
       std::printf("  %-9s %+4.0f cm: tape %.4f m, requested %.4f m, error %+.1f mm\n",
                   m.shapeParams[p].name.c_str(), step, got[idx], req[idx],
@@ -437,7 +435,8 @@ TEST(Mannequin, CanonicalPointsByRule_Slow) {
   const BodyModel& m = defaultMannequin();
   auto point = [&](Canonical c) {
     const CanonicalDef& d = m.canonical[static_cast<int>(c)];
-    if (d.joint >= 0) return Eigen::Vector3d((m.jointRegressor * m.rest.V).row(d.joint).transpose());
+    if (d.joint >= 0)
+      return Eigen::Vector3d((m.jointRegressor * m.rest.V).row(d.joint).transpose());
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
     double sum = 0;
     for (const auto& [v, w] : d.vertices) p += w * m.rest.V.row(v).transpose(), sum += w;
