@@ -391,7 +391,7 @@ void MannequinImplicit::build(const Knobs& kn) {
     const int ja = left ? kMjLeftAnkle : kMjRightAnkle;
     const int jt = left ? kMjLeftToe : kMjRightToe;
     const Eigen::Vector3d dir(side * std::sin(spread), -std::cos(spread), 0);
-    const Eigen::Vector3d Hj(side * 0.085 * s * std::sqrt(m.hip / (0.98 * s)), yHipJ, -0.005 * s);
+    const Eigen::Vector3d Hj(side * 0.09 * s * std::sqrt(m.hip / (0.98 * s)), yHipJ, -0.005 * s);
     const double legLen = (yHipJ - 0.075 * s) / std::cos(spread);
     const Eigen::Vector3d K = Hj + 0.5 * legLen * dir, A = Hj + legLen * dir;
     const Eigen::Vector3d fd =
@@ -406,7 +406,7 @@ void MannequinImplicit::build(const Knobs& kn) {
     const double tKey = (0.135 * s / std::cos(spread)) / (0.5 * legLen);
     Loft tl = makeLoft(Hj, K, Z.cross(dir) * side, side);
     tl.t = {0.0, tKey, 0.75, 1.0};
-    tl.sec = {{0.85 * r, 0.9 * r, 0, 0},
+    tl.sec = {{0.95 * r, 0.9 * r, 0, 0},
               {r, r, 0, 0},
               {0.06 * s, 0.063 * s, 0, 0.004 * s},
               {0.05 * s, 0.052 * s, 0, 0}};

@@ -397,14 +397,18 @@ TEST(Mannequin, FitToRequestedMeasurementsReadsThemBack_Slow) {
 
 TEST(Mannequin, RegressedJointsTrackTheImplicitJoints_Slow) {
   const BodyModel& m = defaultMannequin();
+  double worst = 0;
   for (int p = 0; p < kMannequinShapes; ++p) {
     const Eigen::VectorXd beta = unitStep(p, 5.0);
     const Eigen::MatrixXd J = m.jointRegressor * shaped(m, beta);
     const MannequinImplicit body(mannequinMeasurements({}, beta));
-    for (int j = 0; j < m.numJoints(); ++j)
-      EXPECT_LT((J.row(j) - body.joints().row(j)).norm(), 0.006)
-          << m.shapeParams[p].name << " " << m.jointNames[j];
+    for (int j = 0; j < m.numJoints(); ++j) {
+      const double e = (J.row(j) - body.joints().row(j)).norm();
+      worst = std::max(worst, e);
+      EXPECT_LT(e, 0.006) << m.shapeParams[p].name << " " << m.jointNames[j];
+    }
   }
+  std::printf("  worst regressed-joint error over +5 cm steps: %.1f mm\n", 1000 * worst);
 }
 
 TEST(Mannequin, SkinningWeightsFollowTheLimbs_Slow) {
