@@ -207,6 +207,11 @@ MannequinImplicit::MannequinImplicit(const MannequinMeasurements& m,
       knobs_ = k;
       return;
     }
+    if (it == 11 && err > 1e-4)
+      throw InputError(
+          "mannequin: cannot build a body whose tapes read the requested "
+          "measurements (off by " +
+          std::to_string(1000 * err) + " mm); the combination is out of proportion");
     k.headShift += m.height - top;
     k.crotchShift += m.inseam - cr;
     k.chest *= m.chest / chest;
