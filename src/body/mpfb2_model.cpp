@@ -19,7 +19,8 @@ using json = nlohmann::json;
 
 constexpr double kFileUnit = 0.1;        // MakeHuman decimetres → metres
 constexpr double kSliderStep = 0.1;      // one macro shape unit = 0.1 slider units
-constexpr int kRegressorNeighbours = 16;  // body vertices regressing a helper-defined joint
+constexpr int kRegressorNeighbours = 4;  // nearest body vertices per cone around a joint
+constexpr double kRegressorRidge = 1e-4;  // pull towards uniform weights, relative
 
 // === MakeHuman 1.x macro factors (apps/humanmodifier.py + human.py _set*Vals)
 
@@ -264,17 +265,37 @@ void makeClosedManifold(std::vector<Eigen::Vector3i>& tris, int numVertices,
                         " connected components (or unused vertices); one is needed");
 }
 
-// Weights over the k nearest body vertices reproducing `p` exactly at rest (affine
-// constraints) and following the point's own shape derivatives `dp` (3×S) as closely as the
-// vertices' derivatives allow (least squares, ridge towards the uniform mean).
+// Weights over body vertices around `p` reproducing it exactly at rest (affine constraints)
+// and following its displacements `dp` (3×T, one column per training displacement field in
+// `dirs`, (3#V)×T) as closely as the vertices' displacements allow (least squares, ridge
+// towards uniform weights).
 std::vector<std::pair<int, double>> regressPoint(const Eigen::Vector3d& p, const Eigen::MatrixXd& dp,
                                                  const Eigen::MatrixX3d& V,
                                                  const Eigen::MatrixXd& dirs, int numBody) {
+  // Vertices surrounding p: the nearest few inside each of 26 cones around p, so the
+  // weights interpolate rather than extrapolate (a joint cube sits inside the body).
+  const int perCone = kRegressorNeighbours;
+  std::vector<Eigen::Vector3d> coneDirs;
+  for (int a = -1; a <= 1; ++a)
+    for (int b = -1; b <= 1; ++b)
+      for (int c = -1; c <= 1; ++c)
+        if (a || b || c) coneDirs.push_back(Eigen::Vector3d(a, b, c).normalized());
+  std::vector<std::vector<std::pair<double, int>>> inCone(coneDirs.size());
+  for (int v = 0; v < numBody; ++v) {
+    const Eigen::Vector3d d = V.row(v).transpose() - p;
+    const double r = d.norm();
+    for (size_t c = 0; c < coneDirs.size(); ++c)
+      if (d.dot(coneDirs[c]) > 0.85 * r) inCone[c].emplace_back(r, v);
+  }
+  std::set<int> chosen;
+  for (auto& cone : inCone) {
+    const size_t m = std::min<size_t>(perCone, cone.size());
+    std::partial_sort(cone.begin(), cone.begin() + m, cone.end());
+    for (size_t i = 0; i < m; ++i) chosen.insert(cone[i].second);
+  }
   std::vector<std::pair<double, int>> dist;
-  dist.reserve(numBody);
-  for (int v = 0; v < numBody; ++v) dist.emplace_back((V.row(v).transpose() - p).squaredNorm(), v);
-  const int k = std::min(kRegressorNeighbours, numBody);
-  std::partial_sort(dist.begin(), dist.begin() + k, dist.end());
+  for (int v : chosen) dist.emplace_back(0.0, v);
+  const int k = static_cast<int>(dist.size());
   const int S = static_cast<int>(dirs.cols());
   Eigen::MatrixXd M(3 * S, k);  // column i: vec of vertex i's shape derivatives
   Eigen::VectorXd y(3 * S);
@@ -288,7 +309,7 @@ std::vector<std::pair<int, double>> regressPoint(const Eigen::Vector3d& p, const
   }
   for (int s = 0; s < S; ++s) y.segment<3>(3 * s) = dp.col(s);
   const Eigen::MatrixXd H0 = M.transpose() * M;
-  const double lambda = 1e-3 * H0.trace() / k + 1e-12;
+  const double lambda = kRegressorRidge * H0.trace() / k + 1e-12;
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(k + 4, k + 4);
   K.topLeftCorner(k, k) = H0 + lambda * Eigen::MatrixXd::Identity(k, k);
   K.topRightCorner(k, 4) = C.transpose();
@@ -477,6 +498,19 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
     for (int v = 0; v < nAll; ++v)
       Dm.block<3, 1>(3 * v, s) = kFileUnit * axis.cwiseProduct(dirCols[s].segment<3>(3 * v));
   dirCols.clear();
+  // Training displacements for the joint regressor: the shape directions and every target
+  // read (at 0.1 weight), so helper-defined joints follow the body across the macro space.
+  Eigen::MatrixXd train(3 * nAll, S + static_cast<int>(cache.size()));
+  train.leftCols(S) = Dm;
+  {
+    int c = S;
+    for (const auto& [name, t] : cache) {
+      train.col(c).setZero();
+      for (size_t i = 0; i < t.index.size(); ++i)
+        train.block<3, 1>(3 * t.index[i], c) = kFileUnit * kSliderStep * axis.cwiseProduct(t.delta[i]);
+      ++c;
+    }
+  }
   rep.translation = Eigen::Vector3d(0, -Xm.topRows(nb).col(1).minCoeff(), 0);
   Xm.rowwise() += rep.translation.transpose();
 
@@ -576,22 +610,22 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
   for (int j = 0; j < J; ++j) {
     const auto& ids = headIds[order[j]];
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    Eigen::MatrixXd dp = Eigen::MatrixXd::Zero(3, S);
+    Eigen::MatrixXd dp = Eigen::MatrixXd::Zero(3, train.cols());
     bool allBody = true;
     for (int v : ids) {
       p += Xm.row(v).transpose() / ids.size();
-      dp += Dm.middleRows<3>(3 * v) / ids.size();
+      dp += train.middleRows<3>(3 * v) / ids.size();
       allBody = allBody && v < nb;
     }
     rep.trueJoints.row(j) = p.transpose();
-    rep.trueJointDirs.middleRows<3>(3 * j) = dp;
+    rep.trueJointDirs.middleRows<3>(3 * j) = dp.leftCols(S);
     if (allBody) {
       std::map<int, double> w;
       for (int v : ids) w[v] += 1.0 / ids.size();
       for (const auto& [v, x] : w) jr.emplace_back(j, v, x);
     } else {
       ++rep.regressedJoints;
-      for (const auto& [v, x] : regressPoint(p, dp, model.rest.V, model.shapeDirs, nb))
+      for (const auto& [v, x] : regressPoint(p, dp, Xm, train, nb))
         jr.emplace_back(j, v, x);
     }
   }
