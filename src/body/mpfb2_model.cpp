@@ -752,7 +752,8 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
   for (int c = 0; c < kNumCanonical; ++c)
     if (model.canonical[c].joint < 0 && model.canonical[c].vertices.empty())
       throw FormatError("MPFB2 folder " + dir.string() + ": no vertex satisfies the rule for " +
-                        "canonical point " + std::to_string(c));
+                        "canonical point '" + toString(static_cast<Canonical>(c)) + "'");
+  model.validate();
 
   if (reportOut) *reportOut = std::move(rep);
   return model;

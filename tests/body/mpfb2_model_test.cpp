@@ -7,8 +7,10 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <tuple>
 
 #include "body/mpfb2_files.h"
+#include "body/posing.h"
 #include "core/error.h"
 #include "test_support.h"
 
@@ -421,6 +423,31 @@ TEST(Mpfb2Model, CanonicalPointsFollowTheRules) {
     EXPECT_NEAR(toe.y(), 0.02, 0.03);
     EXPECT_GT(sgn * point(side == 0 ? Canonical::LeftShoulder : Canonical::RightShoulder).x(), 0.1);
   }
+}
+
+TEST(Mpfb2Model, ValidatesAndPosesIntoATPose) {
+  SKIP_WITHOUT_MPFB2();
+  const auto& m = defaultModel().model;
+  EXPECT_NO_THROW(m.validate());
+  BodyParams params;
+  params.shape = Eigen::VectorXd::Zero(m.numShapes());
+  params.pose = BodyPose::zero(m.numJoints());
+  const PosedBody rest = poseBody(m, params);
+  EXPECT_LT((rest.mesh.V - m.rest.V).cwiseAbs().maxCoeff(), 1e-9);  // zero pose = template
+  params.pose = standardPose(m, params.shape, StandardPose::TPose);
+  const PosedBody t = poseBody(m, params);
+  const auto c = [&](Canonical k) { return Eigen::Vector3d(t.canonical.row(static_cast<int>(k))); };
+  // Arms horizontal: wrist and hand tip at shoulder height, far out along ±x.
+  for (const auto& [sh, wr, tip, sgn] :
+       {std::tuple{Canonical::LeftShoulder, Canonical::LeftWrist, Canonical::LeftHandTip, 1.0},
+        std::tuple{Canonical::RightShoulder, Canonical::RightWrist, Canonical::RightHandTip, -1.0}}) {
+    EXPECT_NEAR(c(wr).y(), c(sh).y(), 0.03);
+    EXPECT_NEAR(c(tip).y(), c(sh).y(), 0.06);
+    EXPECT_GT(sgn * (c(tip).x() - c(sh).x()), 0.55);  // shoulder → fingertip of an adult
+  }
+  const double span = c(Canonical::LeftHandTip).x() - c(Canonical::RightHandTip).x();
+  std::cout << "[ MPFB2 ] T-pose arm span " << span << " m\n";
+  EXPECT_NEAR(span, boundingBox(m.rest.V).extent().y(), 0.12);  // span ≈ height (Vitruvian)
 }
 
 // === Errors naming the file
