@@ -170,101 +170,6 @@ std::vector<Eigen::Vector3i> triangulate(const std::vector<const std::vector<int
   return tris;
 }
 
-inline uint64_t edgeKey(int a, int b) {
-  return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
-}
-
-// Closes boundary loops with a fan around a new centroid vertex and splits non-manifold
-// vertices; new vertices are means of existing ones (`extra`). Throws TopologyError for a
-// non-manifold edge or a mesh of several components.
-void makeClosedManifold(std::vector<Eigen::Vector3i>& tris, int numVertices,
-                        std::vector<std::vector<int>>& extra, Mpfb2Report& rep,
-                        const std::string& what) {
-  std::unordered_map<uint64_t, int> half;  // directed edge → count
-  half.reserve(tris.size() * 4);
-  for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) ++half[edgeKey(t[k], t[(k + 1) % 3])];
-  for (const auto& [key, count] : half) {
-    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-    if (count > 1 || (half.count(edgeKey(b, a)) && half.at(edgeKey(b, a)) > 1))
-      throw TopologyError(what + ": edge (" + std::to_string(a) + ", " + std::to_string(b) +
-                          ") is used by more than two faces or inconsistently oriented; the body "
-                          "group cannot be closed (use the unmodified hm08 base mesh)");
-  }
-  // Boundary half-edges (no twin) form the holes; walk them into loops.
-  std::multimap<int, int> next;
-  for (const auto& [key, count] : half) {
-    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-    if (!half.count(edgeKey(b, a))) next.emplace(a, b);
-  }
-  int nv = numVertices + static_cast<int>(extra.size());
-  while (!next.empty()) {
-    std::vector<int> loop;
-    int start = next.begin()->first, cur = start;
-    do {
-      auto it = next.find(cur);
-      if (it == next.end())
-        throw TopologyError(what + ": open boundary at vertex " + std::to_string(cur) +
-                            " does not form a loop");
-      loop.push_back(cur);
-      cur = it->second;
-      next.erase(it);
-    } while (cur != start);
-    const int c = nv++;
-    extra.push_back(loop);
-    // The hole's half-edges run a→b on the boundary; the fan faces use b→a.
-    for (size_t i = 0; i < loop.size(); ++i)
-      tris.emplace_back(loop[(i + 1) % loop.size()], loop[i], c);
-    ++rep.holesClosed;
-    rep.holeVertices += static_cast<int>(loop.size());
-  }
-  // Non-manifold vertices: more than one fan of corners around a vertex; split extra fans.
-  std::unordered_map<uint64_t, int> faceOfHalf;  // directed edge → face
-  faceOfHalf.reserve(tris.size() * 4);
-  for (int f = 0; f < static_cast<int>(tris.size()); ++f)
-    for (int k = 0; k < 3; ++k) faceOfHalf[edgeKey(tris[f][k], tris[f][(k + 1) % 3])] = f;
-  std::vector<std::vector<int>> cornersOf(nv);
-  for (int f = 0; f < static_cast<int>(tris.size()); ++f)
-    for (int k = 0; k < 3; ++k) cornersOf[tris[f][k]].push_back(f);
-  for (int v = 0; v < static_cast<int>(cornersOf.size()); ++v) {
-    std::set<int> remaining(cornersOf[v].begin(), cornersOf[v].end());
-    bool first = true;
-    while (!remaining.empty()) {
-      std::vector<int> fan;
-      int f = *remaining.begin();
-      while (remaining.erase(f)) {  // rotate: the face across the edge (prev → v)
-        fan.push_back(f);
-        const auto& t = tris[f];
-        const int k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-        const int prev = t[(k + 2) % 3];
-        f = faceOfHalf.at(edgeKey(v, prev));
-      }
-      if (!first) {
-        const int copy = nv++;
-        extra.push_back({v});
-        for (int g : fan)
-          for (int k = 0; k < 3; ++k)
-            if (tris[g][k] == v) tris[g][k] = copy;
-      }
-      first = false;
-    }
-  }
-  // One component.
-  std::vector<int> parent(nv);
-  for (int i = 0; i < nv; ++i) parent[i] = i;
-  std::function<int(int)> find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (const auto& t : tris)
-    for (int k = 1; k < 3; ++k) parent[find(t[k])] = find(t[0]);
-  std::set<int> roots;
-  for (int v = 0; v < nv; ++v) roots.insert(find(v));
-  if (roots.size() != 1)
-    throw TopologyError(what + ": the body group has " + std::to_string(roots.size()) +
-                        " connected components (or unused vertices); one is needed");
-}
-
 // Weights over body vertices around `p` reproducing it exactly at rest (affine constraints)
 // and following its displacements `dp` (3×T, one column per training displacement field in
 // `dirs`, (3#V)×T) as closely as the vertices' displacements allow (least squares, ridge
@@ -325,6 +230,106 @@ std::vector<std::pair<int, double>> regressPoint(const Eigen::Vector3d& p, const
 }
 
 }  // namespace
+
+namespace {
+inline uint64_t edgeKey(int a, int b) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
+}
+
+}  // namespace
+
+MeshClosure closeTriangleMesh(std::vector<Eigen::Vector3i>& tris, int numVertices,
+                              const std::string& what) {
+  MeshClosure out;
+  auto& extra = out.extra;
+  std::unordered_map<uint64_t, int> half;  // directed edge → count
+  half.reserve(tris.size() * 4);
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) ++half[edgeKey(t[k], t[(k + 1) % 3])];
+  for (const auto& [key, count] : half) {
+    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+    if (count > 1 || (half.count(edgeKey(b, a)) && half.at(edgeKey(b, a)) > 1))
+      throw TopologyError(what + ": edge (" + std::to_string(a) + ", " + std::to_string(b) +
+                          ") is used by more than two faces or inconsistently oriented; the body "
+                          "group cannot be closed (use the unmodified hm08 base mesh)");
+  }
+  // Boundary half-edges (no twin) form the holes; walk them into loops.
+  std::multimap<int, int> next;
+  for (const auto& [key, count] : half) {
+    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+    if (!half.count(edgeKey(b, a))) next.emplace(a, b);
+  }
+  int nv = numVertices + static_cast<int>(extra.size());
+  while (!next.empty()) {
+    std::vector<int> loop;
+    int start = next.begin()->first, cur = start;
+    do {
+      auto it = next.find(cur);
+      if (it == next.end())
+        throw TopologyError(what + ": open boundary at vertex " + std::to_string(cur) +
+                            " does not form a loop");
+      loop.push_back(cur);
+      cur = it->second;
+      next.erase(it);
+    } while (cur != start);
+    const int c = nv++;
+    extra.push_back(loop);
+    // The hole's half-edges run a→b on the boundary; the fan faces use b→a.
+    for (size_t i = 0; i < loop.size(); ++i)
+      tris.emplace_back(loop[(i + 1) % loop.size()], loop[i], c);
+    ++out.holes;
+    out.holeVertices += static_cast<int>(loop.size());
+  }
+  // Non-manifold vertices: more than one fan of corners around a vertex; split extra fans.
+  std::unordered_map<uint64_t, int> faceOfHalf;  // directed edge → face
+  faceOfHalf.reserve(tris.size() * 4);
+  for (int f = 0; f < static_cast<int>(tris.size()); ++f)
+    for (int k = 0; k < 3; ++k) faceOfHalf[edgeKey(tris[f][k], tris[f][(k + 1) % 3])] = f;
+  std::vector<std::vector<int>> cornersOf(nv);
+  for (int f = 0; f < static_cast<int>(tris.size()); ++f)
+    for (int k = 0; k < 3; ++k) cornersOf[tris[f][k]].push_back(f);
+  std::vector<std::pair<std::vector<int>, int>> splits;  // (faces of a fan, vertex), applied after
+  for (int v = 0; v < static_cast<int>(cornersOf.size()); ++v) {
+    std::set<int> remaining(cornersOf[v].begin(), cornersOf[v].end());
+    bool first = true;
+    while (!remaining.empty()) {
+      std::vector<int> fan;
+      int f = *remaining.begin();
+      while (remaining.erase(f)) {  // rotate: the face across the edge (prev → v)
+        fan.push_back(f);
+        const auto& t = tris[f];
+        const int k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+        const int prev = t[(k + 2) % 3];
+        f = faceOfHalf.at(edgeKey(v, prev));
+      }
+      if (!first) splits.emplace_back(std::move(fan), v);
+      first = false;
+    }
+  }
+  for (const auto& [fan, v] : splits) {
+    const int copy = nv++;
+    extra.push_back({v});
+    ++out.splitVertices;
+    for (int g : fan)
+      for (int k = 0; k < 3; ++k)
+        if (tris[g][k] == v) tris[g][k] = copy;
+  }
+  // One component.
+  std::vector<int> parent(nv);
+  for (int i = 0; i < nv; ++i) parent[i] = i;
+  std::function<int(int)> find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& t : tris)
+    for (int k = 1; k < 3; ++k) parent[find(t[k])] = find(t[0]);
+  std::set<int> roots;
+  for (int v = 0; v < nv; ++v) roots.insert(find(v));
+  if (roots.size() != 1)
+    throw TopologyError(what + ": the body group has " + std::to_string(roots.size()) +
+                        " connected components (or unused vertices); one is needed");
+  return out;
+}
 
 std::map<std::string, double> mpfb2MacroTargetWeights(const Mpfb2Options& o) {
   std::map<std::string, double> out;
@@ -523,8 +528,11 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
   std::vector<Eigen::Vector3i> tris = triangulate(polys, Xm);
   if (mirrored)
     for (auto& t : tris) std::swap(t[1], t[2]);
-  std::vector<std::vector<int>> extra;
-  makeClosedManifold(tris, nb, extra, rep, "MPFB2 " + objFile.string());
+  MeshClosure closure = closeTriangleMesh(tris, nb, "MPFB2 " + objFile.string());
+  rep.holesClosed = closure.holes;
+  rep.holeVertices = closure.holeVertices;
+  rep.splitVertices = closure.splitVertices;
+  const std::vector<std::vector<int>>& extra = closure.extra;
   const int nv = nb + static_cast<int>(extra.size());
 
   BodyModel model;

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "body/body_model.h"
 
@@ -37,6 +38,7 @@ struct Mpfb2Report {
   int bodyVertices = 0;         // vertices of group `body` in base.obj
   int holesClosed = 0;          // boundary loops closed by a centroid fan
   int holeVertices = 0;         // vertices on those loops
+  int splitVertices = 0;        // non-manifold vertices split into one copy per extra fan
   int unweightedVertices = 0;   // body vertices given their nearest weighted neighbour's weights
   int targetsRead = 0;          // morph target files parsed
   int regressedJoints = 0;      // joints whose definition uses non-body (helper) vertices
@@ -58,5 +60,18 @@ BodyModel loadMpfb2(const std::filesystem::path& dir, const Mpfb2Options& option
 // averageweight", "macrodetails/height/male-young-averagemuscle-averageweight-maxheight")
 // → weight; zero weights left out. Cup size and firmness stay at 0.5 (no target).
 std::map<std::string, double> mpfb2MacroTargetWeights(const Mpfb2Options& setting);
+
+// What closeTriangleMesh added: vertex numVertices + e is the mean of extra[e] (a hole's
+// centroid, or a copy of a split vertex), so it follows shape, weights and regressors.
+struct MeshClosure {
+  int holes = 0, holeVertices = 0, splitVertices = 0;
+  std::vector<std::vector<int>> extra;
+};
+// Makes a triangle soup over vertices [0, numVertices) a closed 2-manifold: each boundary
+// loop closed by a fan around a new centroid vertex, each vertex whose faces form several fans
+// split into one copy per extra fan. Throws TopologyError naming `what` for an edge used by
+// more than two faces (or twice in one direction) or when the result has several components.
+MeshClosure closeTriangleMesh(std::vector<Eigen::Vector3i>& tris, int numVertices,
+                              const std::string& what);
 
 }  // namespace s2p

@@ -12,6 +12,7 @@
 #include "body/mpfb2_files.h"
 #include "body/posing.h"
 #include "core/error.h"
+#include "core/shapes.h"
 #include "test_support.h"
 
 namespace s2p {
@@ -129,6 +130,63 @@ TEST(Mpfb2Files, TargetReaderParsesMakeHumanNumbers) {
   EXPECT_THROW(readMpfb2Target(dir / "none.target.gz", 100), IoError);
 }
 
+// === Closing the body mesh
+
+std::vector<Eigen::Vector3i> trianglesOf(const TriMesh& m) {
+  std::vector<Eigen::Vector3i> t;
+  for (int f = 0; f < m.numFaces(); ++f) t.emplace_back(m.F.row(f).transpose());
+  return t;
+}
+
+TEST(Mpfb2Mesh, OpenCylinderGetsBothEndsClosed) {
+  const TriMesh cyl = makeCylinder(4, 12, 0.5, 2.0);  // two boundary loops of 12
+  std::vector<Eigen::Vector3i> tris = trianglesOf(cyl);
+  const MeshClosure c = closeTriangleMesh(tris, cyl.numVertices(), "cylinder");
+  EXPECT_EQ(c.holes, 2);
+  EXPECT_EQ(c.holeVertices, 24);
+  EXPECT_EQ(c.splitVertices, 0);
+  ASSERT_EQ(c.extra.size(), 2u);
+  EXPECT_EQ(c.extra[0].size(), 12u);
+  EXPECT_EQ(tris.size(), static_cast<size_t>(cyl.numFaces() + 24));
+  // Closed and consistently oriented: every directed edge once, with its twin.
+  std::set<std::pair<int, int>> directed;
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) EXPECT_TRUE(directed.insert({t[k], t[(k + 1) % 3]}).second);
+  for (const auto& [a, b] : directed) EXPECT_TRUE(directed.count({b, a})) << a << "-" << b;
+  // Euler characteristic 2 with the two centroids added.
+  EXPECT_EQ(cyl.numVertices() + 2 - static_cast<int>(directed.size()) / 2 +
+                static_cast<int>(tris.size()),
+            2);
+}
+
+TEST(Mpfb2Mesh, ClosedMeshIsLeftUntouched) {
+  const TriMesh ico = makeIcosphere(1);
+  std::vector<Eigen::Vector3i> tris = trianglesOf(ico);
+  const MeshClosure c = closeTriangleMesh(tris, ico.numVertices(), "icosphere");
+  EXPECT_EQ(c.holes + c.splitVertices, 0);
+  EXPECT_EQ(tris, trianglesOf(ico));
+}
+
+TEST(Mpfb2Mesh, PinchedVertexIsSplitAndNonManifoldEdgeRejected) {
+  // Two tetrahedra sharing vertex 0, joined elsewhere by nothing: the split leaves two
+  // components, which is an error; sharing an edge (three faces on it) is an error too.
+  const std::vector<Eigen::Vector3i> tet = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::vector<Eigen::Vector3i> two = tet;
+  for (auto t : tet) {
+    for (int k = 0; k < 3; ++k) t[k] = t[k] == 0 ? 0 : t[k] + 3;
+    two.push_back(t);
+  }
+  try {
+    closeTriangleMesh(two, 7, "bow-tie");
+    ADD_FAILURE() << "no exception";
+  } catch (const TopologyError& e) {  // without the split, vertex 0 would join them into one
+    EXPECT_NE(std::string(e.what()).find("2 connected components"), std::string::npos) << e.what();
+  }
+  std::vector<Eigen::Vector3i> fin = tet;
+  fin.emplace_back(0, 1, 4);  // a third face on edge 0-1
+  EXPECT_THROW(closeTriangleMesh(fin, 5, "fin"), TopologyError);
+}
+
 // === MakeHuman macro weights (analytic values of human.py's slider mapping)
 
 double familySum(const std::map<std::string, double>& w, const std::string& prefix,
@@ -190,6 +248,10 @@ TEST(Mpfb2Model, MeshIsClosedManifoldOneComponent) {
   SKIP_WITHOUT_MPFB2();
   const auto& [m, rep] = defaultModel();
   EXPECT_EQ(rep.bodyVertices, 13380);
+  std::cout << "[ MPFB2 ] holes closed " << rep.holesClosed << " (" << rep.holeVertices
+            << " vertices), split vertices " << rep.splitVertices << ", regressed joints "
+            << rep.regressedJoints << "\n";
+  EXPECT_EQ(rep.splitVertices, 0);
   EXPECT_EQ(m.numVertices(), rep.bodyVertices + rep.holesClosed);
   EXPECT_EQ(m.rest.numFaces(), 2 * 13378 + rep.holeVertices);  // quads → 2 triangles, fans
   std::map<std::pair<int, int>, int> directed;
