@@ -153,8 +153,9 @@ Mpfb2Target readMpfb2Target(const std::filesystem::path& file, int numVertices) 
           !parseNumber(q, eol, d[2]))
         malformed(file, line, "expected `vertex dx dy dz`");
       if (idx < 0 || idx >= numVertices)
-        malformed(file, line, "vertex " + std::to_string(idx) + " out of range (base mesh has " +
-                                  std::to_string(numVertices) + ")");
+        malformed(file, line,
+                  "vertex " + std::to_string(idx) + " out of range (base mesh has " +
+                      std::to_string(numVertices) + ")");
       if (!d.allFinite()) malformed(file, line, "non-finite offset");
       if (skipSpace(q, eol) != eol) malformed(file, line, "trailing characters");
       t.index.push_back(idx);

@@ -17,16 +17,18 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-constexpr double kFileUnit = 0.1;        // MakeHuman decimetres → metres
-constexpr double kSliderStep = 0.1;      // one macro shape unit = 0.1 slider units
-constexpr int kRegressorNeighbours = 4;  // nearest body vertices per cone around a joint
+constexpr double kFileUnit = 0.1;         // MakeHuman decimetres → metres
+constexpr double kSliderStep = 0.1;       // one macro shape unit = 0.1 slider units
+constexpr int kRegressorNeighbours = 4;   // nearest body vertices per cone around a joint
 constexpr double kRegressorRidge = 1e-4;  // pull towards uniform weights, relative
 
 // === MakeHuman 1.x macro factors (apps/humanmodifier.py + human.py _set*Vals)
 
 using Factors = std::vector<std::pair<std::string, double>>;
 
-Factors genderFactors(double g) { return {{"female", 1.0 - g}, {"male", g}}; }
+Factors genderFactors(double g) {
+  return {{"female", 1.0 - g}, {"male", g}};
+}
 
 // Age slider → baby (1 yr) at 0, child (11 yr) at 0.1875, young (25 yr) at 0.5, old (90) at 1.
 Factors ageFactors(double a) {
@@ -61,8 +63,7 @@ Factors raceFactors(const std::string& ethnicity) {
 // All products of factors, names joined by '-', zero weights dropped.
 void expand(const std::vector<const Factors*>& parts, const std::string& prefix,
             const std::string& suffix, std::map<std::string, double>& out) {
-  std::function<void(size_t, std::string, double)> rec = [&](size_t i, std::string name,
-                                                             double w) {
+  std::function<void(size_t, std::string, double)> rec = [&](size_t i, std::string name, double w) {
     if (w == 0.0) return;
     if (i == parts.size()) {
       out[prefix + name + suffix] += w;
@@ -100,12 +101,18 @@ double sliderValue(const Mpfb2Options& o, int s) {
 }
 double& slider(Mpfb2Options& o, int s) {
   switch (s) {
-    case 0: return o.gender;
-    case 1: return o.age;
-    case 2: return o.muscle;
-    case 3: return o.weight;
-    case 4: return o.height;
-    default: return o.proportions;
+    case 0:
+      return o.gender;
+    case 1:
+      return o.age;
+    case 2:
+      return o.muscle;
+    case 3:
+      return o.weight;
+    case 4:
+      return o.height;
+    default:
+      return o.proportions;
   }
 }
 const char* kSliderNames[] = {"gender", "age", "muscle", "weight", "height", "proportions"};
@@ -174,7 +181,8 @@ std::vector<Eigen::Vector3i> triangulate(const std::vector<const std::vector<int
 // and following its displacements `dp` (3×T, one column per training displacement field in
 // `dirs`, (3#V)×T) as closely as the vertices' displacements allow (least squares, ridge
 // towards uniform weights).
-std::vector<std::pair<int, double>> regressPoint(const Eigen::Vector3d& p, const Eigen::MatrixXd& dp,
+std::vector<std::pair<int, double>> regressPoint(const Eigen::Vector3d& p,
+                                                 const Eigen::MatrixXd& dp,
                                                  const Eigen::MatrixX3d& V,
                                                  const Eigen::MatrixXd& dirs, int numBody) {
   // Vertices surrounding p: the nearest few inside each of 26 cones around p, so the
@@ -374,11 +382,11 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
     try {
       const json& r = groupsJson.at("body");
       if (r.size() != 1 || r[0][0].get<int>() != 0 || r[0][1].get<int>() != nb - 1)
-        throw FormatError("MPFB2 folder: " + groupsFile.string() + ": 'body' range disagrees with " +
-                          objFile.string());
+        throw FormatError("MPFB2 folder: " + groupsFile.string() +
+                          ": 'body' range disagrees with " + objFile.string());
     } catch (const json::exception& e) {
-      throw FormatError("MPFB2 folder: " + groupsFile.string() + ": bad 'body' entry (" +
-                        e.what() + ")");
+      throw FormatError("MPFB2 folder: " + groupsFile.string() + ": bad 'body' entry (" + e.what() +
+                        ")");
     }
   }
   const fs::path macroFile = dir / "targets" / "macrodetails" / "macro.json";
@@ -455,8 +463,8 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
               pname.compare(pname.size() - suffix.size(), suffix.size(), suffix) == 0)
             pname.resize(pname.size() - suffix.size());
           params.push_back({pname,
-                            "MakeHuman " + pname + " modifier, +1 ≈ " + incr + " at weight 1, −1 ≈ " +
-                                decr + " (linearised: (incr − decr)/2)",
+                            "MakeHuman " + pname + " modifier, +1 ≈ " + incr +
+                                " at weight 1, −1 ≈ " + decr + " (linearised: (incr − decr)/2)",
                             -1.0, 1.0});
         }
       }
@@ -480,8 +488,10 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
     int nf = 0, na = 0;
     for (int v = 0; v < nb; ++v) {
       const double y = X0[3 * v + 1] - ymin;
-      if (y < 0.03 * hgt) footZ += X0[3 * v + 2], ++nf;
-      else if (y > 0.05 * hgt && y < 0.07 * hgt) ankleZ += X0[3 * v + 2], ++na;
+      if (y < 0.03 * hgt)
+        footZ += X0[3 * v + 2], ++nf;
+      else if (y > 0.05 * hgt && y < 0.07 * hgt)
+        ankleZ += X0[3 * v + 2], ++na;
     }
     if (nf && na && footZ / nf < ankleZ / na) axis = Eigen::Vector3d(-1, 1, -1);  // toes to −Z
     if (groupsJson.contains("Left")) {
@@ -512,7 +522,8 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
     for (const auto& [name, t] : cache) {
       train.col(c).setZero();
       for (size_t i = 0; i < t.index.size(); ++i)
-        train.block<3, 1>(3 * t.index[i], c) = kFileUnit * kSliderStep * axis.cwiseProduct(t.delta[i]);
+        train.block<3, 1>(3 * t.index[i], c) =
+            kFileUnit * kSliderStep * axis.cwiseProduct(t.delta[i]);
       ++c;
     }
   }
@@ -521,8 +532,8 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
 
   // === Mesh: body polygons → triangles, closed, manifold, one component
   std::vector<const std::vector<int>*> polys;
-  const int bodyGroup = static_cast<int>(
-      std::find(obj.groups.begin(), obj.groups.end(), "body") - obj.groups.begin());
+  const int bodyGroup = static_cast<int>(std::find(obj.groups.begin(), obj.groups.end(), "body") -
+                                         obj.groups.begin());
   for (size_t f = 0; f < obj.faces.size(); ++f)
     if (obj.faceGroup[f] == bodyGroup) polys.push_back(&obj.faces[f]);
   std::vector<Eigen::Vector3i> tris = triangulate(polys, Xm);
@@ -547,7 +558,8 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
     model.shapeDirs.middleRows<3>(3 * v).setZero();
     for (int src : extra[e]) {
       model.rest.V.row(v) += model.rest.V.row(src) / extra[e].size();
-      model.shapeDirs.middleRows<3>(3 * v) += model.shapeDirs.middleRows<3>(3 * src) / extra[e].size();
+      model.shapeDirs.middleRows<3>(3 * v) +=
+          model.shapeDirs.middleRows<3>(3 * src) / extra[e].size();
     }
   }
   model.rest.F.resize(static_cast<Eigen::Index>(tris.size()), 3);
@@ -561,11 +573,13 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
   try {
     for (const auto& [name, bone] : rig.items()) {
       const std::string parent = bone.at("parent").get<std::string>();
-      if (parent.empty()) roots.push_back(name);
+      if (parent.empty())
+        roots.push_back(name);
       else if (!rig.contains(parent))
         throw FormatError("MPFB2 folder: " + rigFile.string() + ": bone '" + name +
                           "' has unknown parent '" + parent + "'");
-      else children[parent].push_back(name);
+      else
+        children[parent].push_back(name);
       const json& head = bone.at("head");
       const std::string strategy = head.at("strategy").get<std::string>();
       std::vector<int> ids;
@@ -633,8 +647,7 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
       for (const auto& [v, x] : w) jr.emplace_back(j, v, x);
     } else {
       ++rep.regressedJoints;
-      for (const auto& [v, x] : regressPoint(p, dp, Xm, train, nb))
-        jr.emplace_back(j, v, x);
+      for (const auto& [v, x] : regressPoint(p, dp, Xm, train, nb)) jr.emplace_back(j, v, x);
     }
   }
   model.jointRegressor.resize(J, nv);
@@ -656,8 +669,8 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
       }
     }
   } catch (const json::exception& e) {
-    throw FormatError("MPFB2 folder: " + weightsFile.string() + ": malformed weights (" +
-                      e.what() + ")");
+    throw FormatError("MPFB2 folder: " + weightsFile.string() + ": malformed weights (" + e.what() +
+                      ")");
   }
   std::vector<int> weighted;
   for (int v = 0; v < nb; ++v)
@@ -669,7 +682,8 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
     ++rep.unweightedVertices;
     int best = weighted[0];
     for (int u : weighted)
-      if ((Xm.row(u) - Xm.row(v)).squaredNorm() < (Xm.row(best) - Xm.row(v)).squaredNorm()) best = u;
+      if ((Xm.row(u) - Xm.row(v)).squaredNorm() < (Xm.row(best) - Xm.row(v)).squaredNorm())
+        best = u;
     W.row(v) = W.row(best);
   }
   for (int v = 0; v < nb; ++v) W.row(v) /= W.row(v).sum();
@@ -685,17 +699,25 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
                         "' (the game_engine rig is needed)");
     return j;
   };
-  const std::pair<Canonical, const char*> jointMap[] = {
-      {Canonical::Pelvis, "pelvis"},          {Canonical::Spine, "spine_01"},
-      {Canonical::Chest, "spine_03"},         {Canonical::Neck, "neck_01"},
-      {Canonical::Head, "head"},              {Canonical::LeftClavicle, "clavicle_l"},
-      {Canonical::RightClavicle, "clavicle_r"}, {Canonical::LeftShoulder, "upperarm_l"},
-      {Canonical::RightShoulder, "upperarm_r"}, {Canonical::LeftElbow, "lowerarm_l"},
-      {Canonical::RightElbow, "lowerarm_r"},  {Canonical::LeftWrist, "hand_l"},
-      {Canonical::RightWrist, "hand_r"},      {Canonical::LeftHip, "thigh_l"},
-      {Canonical::RightHip, "thigh_r"},       {Canonical::LeftKnee, "calf_l"},
-      {Canonical::RightKnee, "calf_r"},       {Canonical::LeftAnkle, "foot_l"},
-      {Canonical::RightAnkle, "foot_r"}};
+  const std::pair<Canonical, const char*> jointMap[] = {{Canonical::Pelvis, "pelvis"},
+                                                        {Canonical::Spine, "spine_01"},
+                                                        {Canonical::Chest, "spine_03"},
+                                                        {Canonical::Neck, "neck_01"},
+                                                        {Canonical::Head, "head"},
+                                                        {Canonical::LeftClavicle, "clavicle_l"},
+                                                        {Canonical::RightClavicle, "clavicle_r"},
+                                                        {Canonical::LeftShoulder, "upperarm_l"},
+                                                        {Canonical::RightShoulder, "upperarm_r"},
+                                                        {Canonical::LeftElbow, "lowerarm_l"},
+                                                        {Canonical::RightElbow, "lowerarm_r"},
+                                                        {Canonical::LeftWrist, "hand_l"},
+                                                        {Canonical::RightWrist, "hand_r"},
+                                                        {Canonical::LeftHip, "thigh_l"},
+                                                        {Canonical::RightHip, "thigh_r"},
+                                                        {Canonical::LeftKnee, "calf_l"},
+                                                        {Canonical::RightKnee, "calf_r"},
+                                                        {Canonical::LeftAnkle, "foot_l"},
+                                                        {Canonical::RightAnkle, "foot_r"}};
   for (const auto& [c, name] : jointMap) model.canonical[static_cast<int>(c)].joint = bone(name);
 
   // Per-vertex weight of a joint's subtree (the body part it moves).
@@ -731,29 +753,33 @@ BodyModel loadMpfb2(const fs::path& dir, const Mpfb2Options& options, Mpfb2Repor
     const int foot = bone(("foot" + sfx).c_str()), ball = bone(("ball" + sfx).c_str());
     // Hand tip: farthest along wrist → middle knuckle.
     const Eigen::Vector3d hd = (TJ.row(mid) - TJ.row(hand)).normalized();
-    model.canonical[static_cast<int>(side == 0 ? Canonical::LeftHandTip : Canonical::RightHandTip)] =
-        extreme(region(hand), any, [&](int v) { return V.row(v).dot(hd); }, 0.003);
+    model
+        .canonical[static_cast<int>(side == 0 ? Canonical::LeftHandTip : Canonical::RightHandTip)] =
+        extreme(
+            region(hand), any, [&](int v) { return V.row(v).dot(hd); }, 0.003);
     // Toe tip: farthest along the horizontal ankle → ball direction.
     Eigen::Vector3d fd = TJ.row(ball) - TJ.row(foot);
     fd.y() = 0;
     fd.normalize();
     const Eigen::VectorXd footReg = region(foot);
     model.canonical[static_cast<int>(side == 0 ? Canonical::LeftToeTip : Canonical::RightToeTip)] =
-        extreme(footReg, any, [&](int v) { return V.row(v).dot(fd); }, 0.003);
+        extreme(
+            footReg, any, [&](int v) { return V.row(v).dot(fd); }, 0.003);
     // Heel: the rearmost of the lowest (within 1 cm) foot vertices behind the ankle.
     double footMin = 1e300;
     for (int v = 0; v < nv; ++v)
       if (footReg[v] >= 0.5) footMin = std::min(footMin, V(v, 1));
     const double ankleProj = TJ.row(foot).dot(fd);
     model.canonical[static_cast<int>(side == 0 ? Canonical::LeftHeel : Canonical::RightHeel)] =
-        extreme(footReg,
-                [&](int v) { return V(v, 1) <= footMin + 0.01 && V.row(v).dot(fd) < ankleProj; },
-                [&](int v) { return -V.row(v).dot(fd); }, 0.003);
+        extreme(
+            footReg,
+            [&](int v) { return V(v, 1) <= footMin + 0.01 && V.row(v).dot(fd) < ankleProj; },
+            [&](int v) { return -V.row(v).dot(fd); }, 0.003);
   }
   const int head = bone("head");
   const Eigen::VectorXd headReg = region(head);
-  model.canonical[static_cast<int>(Canonical::HeadTop)] =
-      extreme(headReg, any, [&](int v) { return V(v, 1); }, 0.003);
+  model.canonical[static_cast<int>(Canonical::HeadTop)] = extreme(
+      headReg, any, [&](int v) { return V(v, 1); }, 0.003);
   model.canonical[static_cast<int>(Canonical::Nose)] = extreme(
       headReg, [&](int v) { return std::abs(V(v, 0) - TJ(head, 0)) < 0.01; },
       [&](int v) { return V(v, 2); }, 0.002);

@@ -35,18 +35,18 @@ struct Mpfb2Options {
 
 // What the loader found and did, for reports and tests.
 struct Mpfb2Report {
-  int bodyVertices = 0;         // vertices of group `body` in base.obj
-  int holesClosed = 0;          // boundary loops closed by a centroid fan
-  int holeVertices = 0;         // vertices on those loops
-  int splitVertices = 0;        // non-manifold vertices split into one copy per extra fan
-  int unweightedVertices = 0;   // body vertices given their nearest weighted neighbour's weights
-  int targetsRead = 0;          // morph target files parsed
-  int regressedJoints = 0;      // joints whose definition uses non-body (helper) vertices
+  int bodyVertices = 0;        // vertices of group `body` in base.obj
+  int holesClosed = 0;         // boundary loops closed by a centroid fan
+  int holeVertices = 0;        // vertices on those loops
+  int splitVertices = 0;       // non-manifold vertices split into one copy per extra fan
+  int unweightedVertices = 0;  // body vertices given their nearest weighted neighbour's weights
+  int targetsRead = 0;         // morph target files parsed
+  int regressedJoints = 0;     // joints whose definition uses non-body (helper) vertices
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();  // metres, applied after scaling
   // The joints as the rig file defines them (means of cube / helper / body vertices of the
   // full base mesh, shaped like the body), in the model's frame: what jointRegressor imitates.
-  Eigen::MatrixX3d trueJoints;     // #J×3 at β = 0
-  Eigen::MatrixXd trueJointDirs;   // (3#J)×#S, row 3j+k: ∂J_jk/∂β_s
+  Eigen::MatrixX3d trueJoints;    // #J×3 at β = 0
+  Eigen::MatrixXd trueJointDirs;  // (3#J)×#S, row 3j+k: ∂J_jk/∂β_s
 };
 
 // Throws IoError naming the file when a required file is missing, FormatError naming the file

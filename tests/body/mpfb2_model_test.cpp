@@ -33,8 +33,8 @@ fs::path mpfb2Dir() {
   return fs::exists(d / "3dobjs" / "base.obj") ? d : fs::path{};
 }
 
-#define SKIP_WITHOUT_MPFB2()                                                       \
-  if (mpfb2Dir().empty())                                                          \
+#define SKIP_WITHOUT_MPFB2() \
+  if (mpfb2Dir().empty())    \
   GTEST_SKIP() << "MPFB2 data not found at ../shared/bodymodels/mpfb2: skipping"
 
 // The default model, loaded once for the whole test program.
@@ -154,9 +154,9 @@ TEST(Mpfb2Mesh, OpenCylinderGetsBothEndsClosed) {
     for (int k = 0; k < 3; ++k) EXPECT_TRUE(directed.insert({t[k], t[(k + 1) % 3]}).second);
   for (const auto& [a, b] : directed) EXPECT_TRUE(directed.count({b, a})) << a << "-" << b;
   // Euler characteristic 2 with the two centroids added.
-  EXPECT_EQ(cyl.numVertices() + 2 - static_cast<int>(directed.size()) / 2 +
-                static_cast<int>(tris.size()),
-            2);
+  EXPECT_EQ(
+      cyl.numVertices() + 2 - static_cast<int>(directed.size()) / 2 + static_cast<int>(tris.size()),
+      2);
 }
 
 TEST(Mpfb2Mesh, ClosedMeshIsLeftUntouched) {
@@ -193,8 +193,7 @@ double familySum(const std::map<std::string, double>& w, const std::string& pref
                  bool excludeSub = false) {
   double s = 0;
   for (const auto& [n, x] : w)
-    if (n.rfind(prefix, 0) == 0 &&
-        !(excludeSub && n.find('/', prefix.size()) != std::string::npos))
+    if (n.rfind(prefix, 0) == 0 && !(excludeSub && n.find('/', prefix.size()) != std::string::npos))
       s += x;
   return s;
 }
@@ -214,14 +213,14 @@ TEST(Mpfb2Macro, SliderMappingsMatchMakeHuman) {
   Mpfb2Options o;
   o.age = 0.3;  // between child (0.1875) and young (0.5): young = 0.1125/0.3125 = 0.36
   o.gender = 0.2;
-  o.weight = 0.8;  // average 0.4, max 0.6
+  o.weight = 0.8;   // average 0.4, max 0.6
   o.height = 0.75;  // maxheight 0.5
   o.ethnicity = "caucasian";
   const auto w = mpfb2MacroTargetWeights(o);
   EXPECT_NEAR(w.at("macrodetails/caucasian-female-young"), 0.8 * 0.36, 1e-12);
   EXPECT_NEAR(w.at("macrodetails/caucasian-male-child"), 0.2 * 0.64, 1e-12);
-  EXPECT_NEAR(w.at("macrodetails/universal-female-child-averagemuscle-maxweight"),
-              0.8 * 0.64 * 0.6, 1e-12);
+  EXPECT_NEAR(w.at("macrodetails/universal-female-child-averagemuscle-maxweight"), 0.8 * 0.64 * 0.6,
+              1e-12);
   EXPECT_NEAR(familySum(w, "macrodetails/universal-"), 1.0, 1e-12);
   EXPECT_NEAR(familySum(w, "macrodetails/height/"), 0.5, 1e-12);
   EXPECT_NEAR(w.at("macrodetails/height/male-young-averagemuscle-averageweight-maxheight"),
@@ -277,8 +276,9 @@ TEST(Mpfb2Model, MeshIsClosedManifoldOneComponent) {
   // Outward orientation: positive signed volume.
   double vol = 0;
   for (int f = 0; f < m.rest.numFaces(); ++f)
-    vol += m.rest.V.row(m.rest.F(f, 0)).dot(
-               m.rest.V.row(m.rest.F(f, 1)).cross(m.rest.V.row(m.rest.F(f, 2)))) / 6;
+    vol += m.rest.V.row(m.rest.F(f, 0))
+               .dot(m.rest.V.row(m.rest.F(f, 1)).cross(m.rest.V.row(m.rest.F(f, 2)))) /
+           6;
   EXPECT_GT(vol, 0.03);  // an adult body is ~0.06 m³
   EXPECT_LT(vol, 0.12);
 }
@@ -433,8 +433,8 @@ TEST(Mpfb2Model, MeasureTargetsChangeTheirRegion) {
   };
   EXPECT_NEAR(centroidY("measure-waist-circ"), J(joint(m, "spine_01"), 1), 0.12);
   EXPECT_NEAR(centroidY("measure-neck-circ"), J(joint(m, "neck_01"), 1), 0.08);
-  EXPECT_NEAR(centroidY("measure-calf-circ"), 0.5 * (J(joint(m, "calf_l"), 1) + J(joint(m, "foot_l"), 1)),
-              0.15);
+  EXPECT_NEAR(centroidY("measure-calf-circ"),
+              0.5 * (J(joint(m, "calf_l"), 1) + J(joint(m, "foot_l"), 1)), 0.15);
   Eigen::VectorXd beta = Eigen::VectorXd::Zero(m.numShapes());
   beta[shapeIndex(m, "measure-waist-circ")] = 1;
   const double yWaist = J(joint(m, "spine_01"), 1);
@@ -502,7 +502,8 @@ TEST(Mpfb2Model, ValidatesAndPosesIntoATPose) {
   // Arms horizontal: wrist and hand tip at shoulder height, far out along ±x.
   for (const auto& [sh, wr, tip, sgn] :
        {std::tuple{Canonical::LeftShoulder, Canonical::LeftWrist, Canonical::LeftHandTip, 1.0},
-        std::tuple{Canonical::RightShoulder, Canonical::RightWrist, Canonical::RightHandTip, -1.0}}) {
+        std::tuple{Canonical::RightShoulder, Canonical::RightWrist, Canonical::RightHandTip,
+                   -1.0}}) {
     EXPECT_NEAR(c(wr).y(), c(sh).y(), 0.03);
     EXPECT_NEAR(c(tip).y(), c(sh).y(), 0.06);
     EXPECT_GT(sgn * (c(tip).x() - c(sh).x()), 0.55);  // shoulder → fingertip of an adult
