@@ -361,7 +361,7 @@ TEST(Mpfb2Model, RegressedJointsTrackTheJointCubes) {
   EXPECT_LT(err, 0.01);
 }
 
-TEST(Mpfb2Model, RegressorGeneralisesToAnotherMacroSetting_Slow) {
+TEST(Mpfb2Model, RegressorGeneralisesToAnotherMacroSetting) {
   SKIP_WITHOUT_MPFB2();
   const auto& m = defaultModel().model;
   Mpfb2Options o;
