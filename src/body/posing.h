@@ -1,0 +1,101 @@
+// Posing a BodyModel: shape blend shapes, forward kinematics, SMPL pose correctives, linear
+// blend skinning (formulas in body_model.h), analytic Jacobians for the fitter (paper §4,
+// App. A), unposing, standard poses (rest / A / T) and pose JSON files.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+#include <filesystem>
+#include <vector>
+
+#include "body/body_model.h"
+#include "core/tri_mesh.h"
+
+namespace s2p {
+
+// === Shape and pose
+
+Eigen::MatrixX3d shapedTemplate(const BodyModel& model, const Eigen::VectorXd& shape);  // #V×3
+Eigen::MatrixX3d restJoints(const BodyModel& model, const Eigen::VectorXd& shape);      // #J×3
+
+struct PosedBody {
+  TriMesh mesh;                           // posed vertices, faces of model.rest
+  Eigen::MatrixX3d joints;                // #J×3 posed joint positions (translation included)
+  std::vector<Eigen::Affine3d> skinning;  // #J, rest (pose-corrected) → posed, translation included
+  Eigen::MatrixX3d canonical;             // kNumCanonical×3, posed canonical points
+};
+
+// Poses the model. An empty params.shape means β = 0. Throws InputError on size mismatch or
+// non-finite parameters.
+PosedBody poseBody(const BodyModel& model, const BodyParams& params);
+
+// === Rotations (exposed for the fitter and tests)
+
+// Rodrigues' formula, stable near θ = 0.
+Eigen::Matrix3d axisAngleToMatrix(const Eigen::Vector3d& axisAngle);
+// Left Jacobian of SO(3): ∂R/∂θ_c · Rᵀ = [J_l(θ)·e_c]× (Gallego & Yezzi 2015), stable near 0.
+Eigen::Matrix3d so3LeftJacobian(const Eigen::Vector3d& axisAngle);
+// Axis-angle of a rotation matrix (inverse of axisAngleToMatrix, angle in [0, π]).
+Eigen::Vector3d matrixToAxisAngle(const Eigen::Matrix3d& R);
+
+// === Jacobians. Parameter order [β (#S) | θ (3#J, joint-major) | t (3)], P = #S + 3#J + 3.
+
+int numPoseParams(const BodyModel& model);  // P
+// (3n)×P: rows 3i..3i+2 are ∂v/∂params of vertices[i].
+Eigen::MatrixXd posedVertexJacobian(const BodyModel& model, const BodyParams& params,
+                                    const std::vector<int>& vertices);
+Eigen::MatrixXd posedJointJacobian(const BodyModel& model, const BodyParams& params);  // (3#J)×P
+// (3·kNumCanonical)×P, rows in Canonical order.
+Eigen::MatrixXd posedCanonicalJacobian(const BodyModel& model, const BodyParams& params);
+
+// Reusable poser: precomputes the regressed joints and their shape directions once, then
+// poses and differentiates many times (the fitter's inner loop). Keeps a reference to the
+// model, which must outlive it.
+class Poser {
+ public:
+  explicit Poser(const BodyModel& model);
+
+  const BodyModel& model() const { return model_; }
+  int numParams() const;
+  Eigen::MatrixX3d shapedTemplate(const Eigen::VectorXd& shape) const;  // #V×3
+  Eigen::MatrixX3d restJoints(const Eigen::VectorXd& shape) const;      // #J×3
+  PosedBody pose(const BodyParams& params) const;
+  Eigen::MatrixXd vertexJacobian(const BodyParams& params, const std::vector<int>& vertices) const;
+  Eigen::MatrixXd jointJacobian(const BodyParams& params) const;
+  Eigen::MatrixXd canonicalJacobian(const BodyParams& params) const;
+
+ private:
+  const BodyModel& model_;
+  Eigen::MatrixX3d joints0_;        // #J×3 regressed joints at β = 0
+  Eigen::MatrixXd jointShapeDirs_;  // (3#J)×#S, row 3j+k: ∂J_jk/∂β
+};
+
+// === Unposing
+
+// Inverse of joint `joint`'s skinning transform applied to posed points P (#P×3).
+Eigen::MatrixX3d unposePoints(const PosedBody& body, int joint, const Eigen::MatrixX3d& P);
+// Per point: inverse of the weight-blended skinning transform (weights #P×#J, rows sum to 1).
+Eigen::MatrixX3d unposeSkinned(const PosedBody& body,
+                               const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights,
+                               const Eigen::MatrixX3d& P);
+
+// === Standard poses
+
+enum class StandardPose { Rest, APose, TPose };
+
+// Arms in the frontal plane, elbows straight, horizontal (T) or 45° below horizontal (A);
+// legs and everything else at rest. Computed from the canonical shoulder, elbow and wrist
+// joints of the shaped model, so it works whatever the source's rest pose is.
+BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which);
+
+// === Pose JSON: {"joint_name": [ax, ay, az], ..., "translation": [x, y, z]}
+
+// Joints absent from the file stay at zero. Canonical names ("left_elbow") are accepted for
+// joints too. Unknown names → InputError naming them; unreadable file → IoError; not JSON →
+// FormatError.
+BodyPose readPoseJson(const std::filesystem::path& path, const BodyModel& model);
+// Writes every joint by name plus the translation.
+void writePoseJson(const std::filesystem::path& path, const BodyModel& model, const BodyPose& pose);
+
+}  // namespace s2p
