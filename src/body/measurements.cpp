@@ -10,6 +10,7 @@
 #include <set>
 
 #include "body/plane_section.h"
+#include "body/posing.h"
 #include "core/error.h"
 
 namespace s2p {
@@ -388,49 +389,16 @@ class Measurer {
   std::optional<Eigen::Vector3d> acromion_[2];
 };
 
-// The model's shaped template T(β) (#V×3) and rest canonical points (kNumCanonical×3).
-std::pair<TriMesh, Eigen::MatrixX3d> restBody(const BodyModel& model,
-                                              const Eigen::VectorXd& shape) {
-  const int nv = model.numVertices();
-  TriMesh mesh = model.rest;
-  if (model.numShapes() > 0) {
-    const Eigen::VectorXd offset = model.shapeDirs * shape;  // 3#V, row 3v+k
-    for (int v = 0; v < nv; ++v) mesh.V.row(v) += offset.segment<3>(3 * v).transpose();
-  }
-  const Eigen::MatrixX3d joints = model.jointRegressor * mesh.V;  // #J×3
-  Eigen::MatrixX3d canonical(kNumCanonical, 3);
-  for (int c = 0; c < kNumCanonical; ++c) {
-    const CanonicalDef& def = model.canonical[c];
-    if (def.joint >= 0) {
-      canonical.row(c) = joints.row(def.joint);
-    } else {
-      canonical.row(c).setZero();
-      for (const auto& [v, w] : def.vertices) canonical.row(c) += w * mesh.V.row(v);
-    }
-  }
-  return {std::move(mesh), std::move(canonical)};
-}
-
-void checkModel(const BodyModel& model) {
-  const int nv = model.numVertices();
-  auto fail = [&](const std::string& what) {
+// The rest-pose body (θ = 0, no translation) at shape β.
+BodyMeasurements measureRest(const Poser& poser, const Eigen::VectorXd& shape,
+                             const MeasureOptions& options) {
+  const BodyModel& model = poser.model();
+  if (shape.size() != model.numShapes())
     throw InputError(
-        fmt::format("fit shape to measurements: body model \"{}\": {}", model.source, what));
-  };
-  if (nv == 0) fail("the template has no vertices");
-  if (model.shapeDirs.rows() != 3 * nv && model.numShapes() > 0)
-    fail(fmt::format("shapeDirs has {} rows, expected 3·#V = {}", model.shapeDirs.rows(), 3 * nv));
-  if (model.jointRegressor.cols() != nv)
-    fail(fmt::format("jointRegressor has {} columns, expected #V = {}", model.jointRegressor.cols(),
-                     nv));
-  for (int c = 0; c < kNumCanonical; ++c) {
-    const CanonicalDef& def = model.canonical[c];
-    const bool ok =
-        def.joint >= 0 ? def.joint < model.jointRegressor.rows() : !def.vertices.empty();
-    if (!ok) fail(fmt::format("canonical point {} is undefined or out of range", c));
-    for (const auto& [v, w] : def.vertices)
-      if (v < 0 || v >= nv) fail(fmt::format("canonical point {} uses vertex {} of {}", c, v, nv));
-  }
+        fmt::format("measure rest body: {} shape parameters given, body model \"{}\" has {}",
+                    shape.size(), model.source, model.numShapes()));
+  const PosedBody body = poser.pose({shape, BodyPose::zero(model.numJoints())});
+  return measureBody(body.mesh, body.canonical, options);
 }
 
 }  // namespace
@@ -525,17 +493,14 @@ MeasurementTargets toTargets(const BodyMeasurements& m) {
 
 BodyMeasurements measureRestBody(const BodyModel& model, const Eigen::VectorXd& shape,
                                  const MeasureOptions& options) {
-  checkModel(model);
-  if (shape.size() != model.numShapes())
-    throw InputError(fmt::format("measure rest body: {} shape parameters given, the model has {}",
-                                 shape.size(), model.numShapes()));
-  const auto [mesh, canonical] = restBody(model, shape);
-  return measureBody(mesh, canonical, options);
+  model.validate();
+  return measureRest(Poser(model), shape, options);
 }
 
 Eigen::VectorXd fitShapeToMeasurements(const BodyModel& model, const MeasurementTargets& targets,
                                        const MeasurementFitOptions& options) {
-  checkModel(model);
+  model.validate();
+  const Poser poser(model);
   const int ns = model.numShapes();
   if (ns == 0)
     throw InputError(fmt::format(
@@ -567,7 +532,7 @@ Eigen::VectorXd fitShapeToMeasurements(const BodyModel& model, const Measurement
     return b.cwiseMax(lo).cwiseMin(hi);
   };
   auto measured = [&](const Eigen::VectorXd& beta) {
-    const BodyMeasurements m = measureRestBody(model, beta, measure);
+    const BodyMeasurements m = measureRest(poser, beta, measure);
     Eigen::VectorXd r(nt);
     for (int i = 0; i < nt; ++i) r(i) = measurementField(m, names[i]);
     return r;
