@@ -325,7 +325,7 @@ class Measurer {
     if (!hip_) {
       const double hipJoints = 0.5 * (P(Canonical::LeftHip).y() + P(Canonical::RightHip).y());
       const double lo = crotch() + 0.01 * height_;
-      const double hi = std::max(hipJoints, crotch() + 0.05 * height_);
+      const double hi = std::max(hipJoints + 0.02 * height_, crotch() + 0.05 * height_);
       hip_ = searchTorso(lo, hi, true);
       require(hip_, "hip girth", lo, hi);
     }

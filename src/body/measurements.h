@@ -20,7 +20,7 @@
 //                    armpit: the bust for a woman, the chest under the arms for a man.
 //   under_bust_girth narrowest torso girth 0.02 H – 0.06 H (3.5 – 10 cm) below the bust line.
 //   hip_girth        fullest torso girth around the buttocks between the crotch + 0.01 H and
-//                    the hip joints' height (at least crotch + 0.05 H).
+//                    the hip joints' height + 0.02 H (at least crotch + 0.05 H).
 //   waist_girth      natural waist: narrowest torso girth between the hip line + 0.02 H and
 //                    the under-bust line.
 //   neck_girth       plane ⟂ the neck bone (neck→head joints) at 35 % of its length from the

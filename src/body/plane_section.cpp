@@ -65,6 +65,32 @@ MeshSlicer::MeshSlicer(const TriMesh& mesh) : mesh_(mesh) {
   }
   edges_.resize(static_cast<Eigen::Index>(edges.size()), 2);
   for (size_t e = 0; e < edges.size(); ++e) edges_.row(e) << edges[e][0], edges[e][1];
+
+  // Height bins (~8 faces each): a face is listed in every bin its height range overlaps.
+  yMin_ = mesh.V.col(1).minCoeff();
+  yMax_ = mesh.V.col(1).maxCoeff();
+  if (!(yMax_ > yMin_)) return;  // flat in y: horizontal planes scan every face
+  const int nb = std::clamp(nf / 8, 1, 4096);
+  binHeight_ = (yMax_ - yMin_) / nb;
+  auto binOf = [&](double y) {
+    return std::clamp(static_cast<int>((y - yMin_) / binHeight_), 0, nb - 1);
+  };
+  std::vector<std::array<int, 2>> range(nf);
+  binStart_.assign(nb + 1, 0);
+  for (int f = 0; f < nf; ++f) {
+    double lo = mesh.V(mesh.F(f, 0), 1), hi = lo;
+    for (int k = 1; k < 3; ++k) {
+      lo = std::min(lo, mesh.V(mesh.F(f, k), 1));
+      hi = std::max(hi, mesh.V(mesh.F(f, k), 1));
+    }
+    range[f] = {binOf(lo), binOf(hi)};
+    for (int b = range[f][0]; b <= range[f][1]; ++b) ++binStart_[b + 1];
+  }
+  for (int b = 0; b < nb; ++b) binStart_[b + 1] += binStart_[b];
+  binFaces_.resize(binStart_[nb]);
+  std::vector<int> fill(binStart_.begin(), binStart_.end() - 1);
+  for (int f = 0; f < nf; ++f)
+    for (int b = range[f][0]; b <= range[f][1]; ++b) binFaces_[fill[b]++] = f;
 }
 
 std::vector<SectionLoop> MeshSlicer::section(const Eigen::Vector3d& point,
@@ -72,37 +98,56 @@ std::vector<SectionLoop> MeshSlicer::section(const Eigen::Vector3d& point,
   const Eigen::Vector3d n = checkedUnitNormal(normal, "plane section");
   if (!point.allFinite())
     throw InputError("plane section: the plane's point is not finite; give finite coordinates");
-  const Eigen::VectorXd d = (mesh_.V.rowwise() - point.transpose()) * n;  // #V signed distance
-  auto positive = [&](int v) { return d(v) >= 0; };
+  auto dist = [&](int v) { return n.dot(mesh_.V.row(v).transpose() - point); };
 
-  // Nodes: one per crossed edge; segments: one per crossed face.
-  std::vector<int> nodeOfEdge(edges_.rows(), -1);
-  std::vector<Eigen::Vector3d> nodePos;
-  std::vector<std::array<int, 2>> segs;
-  auto nodeFor = [&](int e) {
-    if (nodeOfEdge[e] < 0) {
-      const int a = edges_(e, 0), b = edges_(e, 1);
-      const double t = d(a) / (d(a) - d(b));
-      // A vertex on the plane is its own crossing point, exactly (no 1-ulp duplicates).
-      nodePos.push_back(d(b) == 0
-                            ? Eigen::Vector3d(mesh_.V.row(b))
-                            : Eigen::Vector3d(mesh_.V.row(a).transpose() +
-                                              t * (mesh_.V.row(b) - mesh_.V.row(a)).transpose()));
-      nodeOfEdge[e] = static_cast<int>(nodePos.size()) - 1;
-    }
-    return nodeOfEdge[e];
-  };
-  for (int f = 0; f < mesh_.numFaces(); ++f) {
-    const bool s0 = positive(mesh_.F(f, 0)), s1 = positive(mesh_.F(f, 1)),
-               s2 = positive(mesh_.F(f, 2));
-    if (s0 == s1 && s1 == s2) continue;
+  // Faces the plane can cross: for a horizontal plane those of its height bin, else all.
+  const bool horizontal = n.x() == 0 && n.z() == 0 && !binStart_.empty();
+  int first = 0, last = mesh_.numFaces();
+  if (horizontal) {
+    const double y = point.y();
+    if (y < yMin_ || y > yMax_) return {};
+    const int bin = std::min(numBins() - 1, static_cast<int>((y - yMin_) / binHeight_));
+    first = binStart_[bin];
+    last = binStart_[bin + 1];
+  }
+
+  // Segments: one per crossed face, between the crossing points of two of its edges.
+  std::vector<std::array<int, 2>> segEdges;
+  for (int i = first; i < last; ++i) {
+    const int f = horizontal ? binFaces_[i] : i;
+    const bool s[3] = {dist(mesh_.F(f, 0)) >= 0, dist(mesh_.F(f, 1)) >= 0,
+                       dist(mesh_.F(f, 2)) >= 0};
+    if (s[0] == s[1] && s[1] == s[2]) continue;
     std::array<int, 2> seg{};
     int m = 0;
-    const bool s[3] = {s0, s1, s2};
     for (int k = 0; k < 3; ++k)
-      if (s[k] != s[(k + 1) % 3]) seg[m++] = nodeFor(faceEdge_(f, k));
-    segs.push_back(seg);
+      if (s[k] != s[(k + 1) % 3]) seg[m++] = faceEdge_(f, k);
+    segEdges.push_back(seg);
   }
+  // Nodes: the crossed edges, sorted; a crossing point per node.
+  std::vector<int> nodeEdge;
+  nodeEdge.reserve(2 * segEdges.size());
+  for (const auto& se : segEdges) nodeEdge.insert(nodeEdge.end(), se.begin(), se.end());
+  std::sort(nodeEdge.begin(), nodeEdge.end());
+  nodeEdge.erase(std::unique(nodeEdge.begin(), nodeEdge.end()), nodeEdge.end());
+  std::vector<Eigen::Vector3d> nodePos(nodeEdge.size());
+  for (size_t i = 0; i < nodeEdge.size(); ++i) {
+    const int a = edges_(nodeEdge[i], 0), b = edges_(nodeEdge[i], 1);
+    const double da = dist(a), db = dist(b);
+    // A vertex on the plane is its own crossing point, exactly (no 1-ulp duplicates).
+    nodePos[i] =
+        db == 0   ? Eigen::Vector3d(mesh_.V.row(b))
+        : da == 0 ? Eigen::Vector3d(mesh_.V.row(a))
+                  : Eigen::Vector3d(mesh_.V.row(a).transpose() +
+                                    da / (da - db) * (mesh_.V.row(b) - mesh_.V.row(a)).transpose());
+  }
+  auto nodeOf = [&](int e) {
+    return static_cast<int>(std::lower_bound(nodeEdge.begin(), nodeEdge.end(), e) -
+                            nodeEdge.begin());
+  };
+  std::vector<std::array<int, 2>> segs(segEdges.size());
+  for (size_t i = 0; i < segEdges.size(); ++i)
+    segs[i] = {nodeOf(segEdges[i][0]), nodeOf(segEdges[i][1])};
 
   // Node → incident segments (CSR).
   const int nn = static_cast<int>(nodePos.size());

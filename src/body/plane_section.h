@@ -36,9 +36,15 @@ class MeshSlicer {
   const TriMesh& mesh() const { return mesh_; }
 
  private:
+  int numBins() const { return static_cast<int>(binStart_.size()) - 1; }
+
   const TriMesh& mesh_;
   Eigen::MatrixX2i edges_;     // #E×2 undirected edges, smaller index first
   Eigen::MatrixX3i faceEdge_;  // #F×3, edge k joins corners k and k+1
+  // Faces by height bin (CSR) for horizontal planes, the common case of body measurements.
+  double yMin_ = 0, yMax_ = 0, binHeight_ = 0;
+  std::vector<int> binStart_;  // #bins+1, empty when the mesh is flat in y
+  std::vector<int> binFaces_;
 };
 
 // === Measuring a section

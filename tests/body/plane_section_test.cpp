@@ -177,6 +177,22 @@ TEST(PlaneSection, SlicerGivesTheSameAsTheOneShotFunction) {
   }
 }
 
+TEST(PlaneSection, HorizontalFastPathAgreesWithTheGeneralOne) {
+  // (1e-300, 1, 0) is not exactly vertical, so it takes the scan over every face.
+  const TriMesh sphere = makeIcosphere(3, 0.7);
+  const MeshSlicer slicer(sphere);
+  for (double h : {-0.69, -0.35, 0.0, 0.123, 0.5, 0.6999}) {
+    const auto fast = slicer.section({0, h, 0}, {0, 1, 0});
+    const auto slow = slicer.section({0, h, 0}, {1e-300, 1, 0});
+    ASSERT_EQ(fast.size(), slow.size()) << "h = " << h;
+    ASSERT_EQ(fast.size(), 1u) << "h = " << h;
+    EXPECT_EQ(fast[0].points.rows(), slow[0].points.rows());
+    EXPECT_NEAR(polylineLength(fast[0]), polylineLength(slow[0]), 1e-12);
+  }
+  EXPECT_TRUE(slicer.section({0, 0.71, 0}, {0, 1, 0}).empty());
+  EXPECT_TRUE(slicer.section({0, -0.71, 0}, {0, -1, 0}).empty());
+}
+
 TEST(PlaneSection, BadInputThrowsInputError) {
   const TriMesh cyl = makeCylinder(2, 8, 0.1, 1.0);
   EXPECT_THROW(planeSection(cyl, {0, 0.5, 0}, {0, 0, 0}), InputError);
