@@ -223,7 +223,8 @@ class Measurer {
           const double t = (y - a.y()) / (b.y() - a.y());
           pts.push_back(a + t * (b - a));
         } else if (lo > y && lo - y < 0.04 * height_) {
-          for (int k = 0; k <= 8; ++k) {
+          // Skip the upper arm's first quarter: inside the torso at the shoulder.
+          for (int k = i == 0 ? 2 : 0; k <= 8; ++k) {
             Eigen::Vector3d q = a + (k / 8.0) * (b - a);
             if (q.y() - y < 0.04 * height_) pts.push_back(q);
           }

@@ -95,7 +95,7 @@ enum PartId { kLeftLeg, kRightLeg, kTorso, kNeck, kHead, kLeftArm, kRightArm };
 
 SyntheticBody makeBody(
     const std::function<double(double)>& torsoRadius = [](double) { return kTorsoR; },
-    int torsoRings = 4) {
+    int torsoRings = 4, double armAngle = kArmAngle) {
   using C = Canonical;
   SyntheticBody b;
   b.add(makeTube({0.1, 0, 0}, {0.1, 0.8, 0}, kLegR));
@@ -109,7 +109,7 @@ SyntheticBody makeBody(
   for (int side = 0; side < 2; ++side) {
     const double sx = side == 0 ? 1 : -1;
     const Eigen::Vector3d shoulder(0.12 * sx, 1.35, 0);
-    const Eigen::Vector3d dir(sx * std::sin(kArmAngle), -std::cos(kArmAngle), 0);
+    const Eigen::Vector3d dir(sx * std::sin(armAngle), -std::cos(armAngle), 0);
     const Eigen::Vector3d elbow = shoulder + kUpperArm * dir, wrist = elbow + kForearm * dir;
     const Eigen::Vector3d tip = wrist + kHand * dir;
     b.add(makeTube(shoulder, tip, kArmR, 8));
@@ -173,6 +173,20 @@ TEST(Measurements, ChestAndHipAreTheFullestAndWaistTheNarrowestTorsoGirth) {
   // Under the bust the torso narrows toward the waist: strictly between the two.
   EXPECT_LT(m.underBustGirth, m.chestGirth - 0.01);
   EXPECT_GT(m.underBustGirth, m.waistGirth + 0.01);
+}
+
+TEST(Measurements, TPoseArmsDoNotEnterTheTorsoGirths) {
+  // Arms horizontal: the planes just under them cut the arm tubes, which overlap the torso.
+  const SyntheticBody body = makeBody([](double) { return kTorsoR; }, 4, kPi / 2);
+  const BodyMeasurements m = measureBody(body.mesh, body.canonical);
+  EXPECT_NEAR(m.height, 1.7, 1e-12);
+  EXPECT_NEAR(m.inseam, 0.8, 2e-4);
+  EXPECT_NEAR(m.chestGirth, inscribed(kTorsoR), 1e-9);
+  EXPECT_NEAR(m.waistGirth, inscribed(kTorsoR), 1e-9);
+  EXPECT_NEAR(m.hipGirth, inscribed(kTorsoR), 1e-9);
+  EXPECT_NEAR(m.upperArmGirth, inscribed(kArmR), 1e-9);
+  EXPECT_NEAR(m.neckGirth, inscribed(kNeckR), 1e-9);
+  EXPECT_NEAR(m.thighGirth, inscribed(kLegR), 1e-9);
 }
 
 TEST(Measurements, OnlyRequestedMeasurementsAreTaken) {
