@@ -59,6 +59,18 @@ class Measurer {
     height_ = mesh.V.col(1).maxCoeff() - floor_;
     if (!(height_ > 0))
       throw InputError("measure body: the mesh is flat (zero height); give an upright body");
+    // Canonical points of another body (or another frame) would send the searches astray.
+    const BoundingBox box = boundingBox(mesh.V);
+    const Eigen::Vector3d margin = Eigen::Vector3d::Constant(0.5 * height_);
+    for (int c = 0; c < kNumCanonical; ++c) {
+      const Eigen::Vector3d p = C_.row(c).transpose();
+      if ((p.array() < (box.min - margin).array()).any() ||
+          (p.array() > (box.max + margin).array()).any())
+        throw InputError(fmt::format(
+            "measure body: canonical point '{}' ({:.3f}, {:.3f}, {:.3f}) is far outside the "
+            "mesh; give the canonical points of this body, in its frame",
+            toString(static_cast<Canonical>(c)), p.x(), p.y(), p.z()));
+    }
   }
 
   double height() const { return height_; }
@@ -253,7 +265,7 @@ class Measurer {
   // 0.004 H, then golden-section refinement around the best sample.
   std::optional<Sample> searchTorso(double lo, double hi, bool largest) const {
     if (hi < lo) std::swap(lo, hi);
-    const int n = std::max(2, static_cast<int>(std::ceil((hi - lo) / (0.004 * height_))));
+    const int n = std::clamp(static_cast<int>(std::ceil((hi - lo) / (0.004 * height_))), 2, 1000);
     const double h = (hi - lo) / n;
     auto better = [&](const Sample& a, const Sample& b) {  // a better than b
       if (!a.valid()) return false;
@@ -543,8 +555,13 @@ Eigen::VectorXd fitShapeToMeasurements(const BodyModel& model, const Measurement
     return r.squaredNorm() + mu * beta.squaredNorm();
   };
 
-  Eigen::VectorXd beta =
-      options.initial.size() == ns ? clampToRange(options.initial) : Eigen::VectorXd::Zero(ns);
+  if (options.initial.size() != 0 && options.initial.size() != ns)
+    throw InputError(
+        fmt::format("fit shape to measurements: the initial shape has {} values, the model has {}",
+                    options.initial.size(), ns));
+  Eigen::VectorXd beta = options.initial.size() == ns && options.initial.allFinite()
+                             ? clampToRange(options.initial)
+                             : Eigen::VectorXd::Zero(ns);
   Eigen::VectorXd r = measured(beta) - target;
   double lambda = 1e-3;
   for (int it = 0; it < options.maxIterations; ++it) {
@@ -563,7 +580,13 @@ Eigen::VectorXd fitShapeToMeasurements(const BodyModel& model, const Measurement
       Eigen::MatrixXd A = JtJ;
       A.diagonal() += lambda * JtJ.diagonal().cwiseMax(1e-12);
       const Eigen::VectorXd next = clampToRange(beta - A.ldlt().solve(g));
-      const Eigen::VectorXd rNext = measured(next) - target;
+      Eigen::VectorXd rNext;
+      try {  // a trial shape the measurements cannot be taken on is a rejected step
+        rNext = measured(next) - target;
+      } catch (const InputError&) {
+        lambda *= 10;
+        continue;
+      }
       if (next.allFinite() && rNext.allFinite() && cost(rNext, next) < cost(r, beta)) {
         beta = next;
         r = rNext;

@@ -206,6 +206,9 @@ TEST(Measurements, BadInputThrowsInputError) {
   EXPECT_THROW(measureBody(body.mesh, nan), InputError);
   EXPECT_THROW(measureBody(body.mesh, body.canonical, {.only = {"wingspan"}}), InputError);
   EXPECT_THROW(measureBody(TriMesh{}, body.canonical), InputError);
+  Eigen::MatrixX3d elsewhere = body.canonical;
+  elsewhere.rowwise() += Eigen::RowVector3d(0, 50, 0);  // another body's points
+  EXPECT_THROW(measureBody(body.mesh, elsewhere), InputError);
   // One column for the whole body: the legs never part, so there is no crotch.
   const TriMesh column = makeTube({0, 0, 0}, {0, 1.7, 0}, 0.2).mesh;
   EXPECT_THROW(measureBody(column, body.canonical, {.only = {"inseam"}}), InputError);
@@ -346,6 +349,9 @@ TEST(Measurements, FitRejectsBadTargetsAndModels) {
   badSizes.shapeDirs.conservativeResize(30, 3);
   EXPECT_THROW(fitShapeToMeasurements(badSizes, {{{"chest_girth", 1.0}}}), InputError);
   EXPECT_THROW(measureRestBody(model, Eigen::VectorXd::Zero(2)), InputError);
+  EXPECT_THROW(fitShapeToMeasurements(model, {{{"chest_girth", 1.0}}},
+                                      {.initial = Eigen::VectorXd::Zero(2)}),
+               InputError);
 }
 
 }  // namespace
