@@ -42,7 +42,8 @@ class MeshTopology {
 
   // Boundary loops as ordered vertex cycles, oriented consistently with the faces (the
   // surface lies to the left when walking a loop seen from outside). Only well-defined on
-  // manifold boundaries; non-manifold boundary vertices end a loop early.
+  // manifold boundaries: at a non-manifold vertex a loop continues in the same fan (a bowtie
+  // gives two triangle loops); where no continuation exists the loop is an open chain.
   const std::vector<std::vector<int>>& boundaryLoops() const { return boundaryLoops_; }
 
   // Connected components of faces (through shared edges or vertices): #F ids in [0, n).
