@@ -8,8 +8,6 @@
 #include <cstring>
 #include <fmt/format.h>
 #include <numeric>
-#include <unordered_map>
-#include <unordered_set>
 
 #include "core/error.h"
 #include "core/mesh_topology.h"
@@ -18,85 +16,133 @@ namespace s2p {
 
 namespace {
 
-struct CellKey {
-  std::int64_t x, y, z;
-  bool operator==(const CellKey&) const = default;
-};
-
-struct CellHash {
-  std::size_t operator()(const CellKey& k) const {
-    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-    h ^= static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
-    return static_cast<std::size_t>(h ^ (h >> 29));
+// Open-addressing map from 64-bit keys to ints (keys ≠ kEmpty), linear probing.
+class FlatMap {
+ public:
+  static constexpr std::uint64_t kEmpty = ~0ull;
+  explicit FlatMap(std::size_t expected) {
+    std::size_t n = 16;
+    while (n < 2 * expected) n *= 2;
+    keys_.assign(n, kEmpty);
+    values_.resize(n);
+    mask_ = n - 1;
   }
-};
-
-struct TriKey {
-  std::array<int, 3> v;
-  bool operator==(const TriKey&) const = default;
-};
-
-struct TriHash {
-  std::size_t operator()(const TriKey& k) const {
-    std::uint64_t h = static_cast<std::uint64_t>(k.v[0]) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<std::uint64_t>(k.v[1]) * 0xC2B2AE3D27D4EB4Full + (h >> 7);
-    h ^= static_cast<std::uint64_t>(k.v[2]) * 0x165667B19E3779F9ull + (h >> 11);
-    return static_cast<std::size_t>(h ^ (h >> 31));
+  // Slot of `key`: values()[slot] is valid when keys_[slot] == key.
+  int* find(std::uint64_t key) {
+    for (std::size_t i = mix(key) & mask_;; i = (i + 1) & mask_) {
+      if (keys_[i] == key) return &values_[i];
+      if (keys_[i] == kEmpty) return nullptr;
+    }
   }
+  // Inserts (key, value) if absent; returns the stored value's address and whether inserted.
+  std::pair<int*, bool> insert(std::uint64_t key, int value) {
+    for (std::size_t i = mix(key) & mask_;; i = (i + 1) & mask_) {
+      if (keys_[i] == key) return {&values_[i], false};
+      if (keys_[i] == kEmpty) {
+        keys_[i] = key;
+        values_[i] = value;
+        return {&values_[i], true};
+      }
+    }
+  }
+
+ private:
+  static std::size_t mix(std::uint64_t h) {
+    h ^= h >> 33;
+    h *= 0xFF51AFD7ED558CCDull;
+    h ^= h >> 33;
+    return static_cast<std::size_t>(h);
+  }
+  std::vector<std::uint64_t> keys_;
+  std::vector<int> values_;
+  std::size_t mask_ = 0;
 };
 
-// Greedy clustering in vertex order: each vertex joins the first earlier representative within
-// `tol` found in its 27 neighbouring grid cells (cell size = tol), else becomes one. Returns
+// 64-bit key of a grid cell: packed 21 bits per axis when it fits, else hashed. A collision
+// only puts two cells in one bucket; the distance test keeps the weld exact.
+std::uint64_t cellKey(std::int64_t x, std::int64_t y, std::int64_t z) {
+  constexpr std::int64_t kMax = (1 << 21) - 1;
+  std::uint64_t key;
+  if (x >= 0 && y >= 0 && z >= 0 && x <= kMax && y <= kMax && z <= kMax) {
+    key = static_cast<std::uint64_t>(x) | (static_cast<std::uint64_t>(y) << 21) |
+          (static_cast<std::uint64_t>(z) << 42);
+  } else {
+    key = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull;
+    key ^= static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full + (key << 6) + (key >> 2);
+    key ^= static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull + (key << 6) + (key >> 2);
+    key |= 1ull << 63;  // disjoint from packed keys
+  }
+  return key == FlatMap::kEmpty ? key - 1 : key;
+}
+
+// Greedy clustering in vertex order: each vertex joins the first earlier representative
+// within `tol`, else becomes one. Grid cells of size 2·tol: the ball of radius tol around a
+// point overlaps its own cell and one neighbour per axis, so 8 cells are searched. Returns
 // #V representative ids in [0, #reps) and the representatives' original indices.
 std::vector<int> weldMap(const Eigen::MatrixX3d& V, double tol, std::vector<int>& repOf) {
   const int nv = static_cast<int>(V.rows());
   std::vector<int> map(nv);
   repOf.clear();
-  if (tol <= 0) {
-    std::unordered_map<CellKey, int, CellHash> exact;
-    exact.reserve(static_cast<std::size_t>(nv));
+  FlatMap head(static_cast<std::size_t>(nv));  // cell → last representative in it
+  std::vector<int> next;                       // representative → previous one in its cell
+  if (tol <= 0) {  // exact copies only: the key is the bit pattern
+    std::vector<std::uint64_t> keyOfRep;
     for (int v = 0; v < nv; ++v) {
-      CellKey k{};
-      const double x = V(v, 0) + 0.0, y = V(v, 1) + 0.0, z = V(v, 2) + 0.0;  // −0 → +0
-      std::memcpy(&k.x, &x, 8);
-      std::memcpy(&k.y, &y, 8);
-      std::memcpy(&k.z, &z, 8);
-      auto [it, inserted] = exact.try_emplace(k, static_cast<int>(repOf.size()));
-      if (inserted) repOf.push_back(v);
-      map[v] = it->second;
+      std::uint64_t bits[3];
+      for (int k = 0; k < 3; ++k) {
+        const double x = V(v, k) + 0.0;  // −0 → +0
+        std::memcpy(&bits[k], &x, 8);
+      }
+      const std::uint64_t key =
+          cellKey(static_cast<std::int64_t>(bits[0] ^ (bits[1] * 31) ^ (bits[2] * 1000003)), -1, -1);
+      int found = -1;
+      if (const int* h = head.find(key))
+        for (int r = *h; r >= 0; r = next[r])
+          if (V.row(repOf[r]) == V.row(v)) {
+            found = r;
+            break;
+          }
+      if (found < 0) {
+        found = static_cast<int>(repOf.size());
+        repOf.push_back(v);
+        auto [slot, inserted] = head.insert(key, found);
+        next.push_back(inserted ? -1 : *slot);
+        *slot = found;
+      }
+      map[v] = found;
     }
     return map;
   }
   const Eigen::RowVector3d lo = V.colwise().minCoeff();
-  std::unordered_map<CellKey, int, CellHash> head;  // cell → first representative in it
-  head.reserve(static_cast<std::size_t>(nv));
-  std::vector<int> next;  // representative → next representative in the same cell
-  const double tol2 = tol * tol;
+  const double h = 2 * tol, tol2 = tol * tol;
   for (int v = 0; v < nv; ++v) {
     const Eigen::RowVector3d p = V.row(v);
-    const Eigen::RowVector3d q = (p - lo) / tol;
-    const CellKey c{static_cast<std::int64_t>(std::floor(q[0])),
-                    static_cast<std::int64_t>(std::floor(q[1])),
-                    static_cast<std::int64_t>(std::floor(q[2]))};
+    std::int64_t c[3], side[3];
+    for (int k = 0; k < 3; ++k) {
+      const double q = (p[k] - lo[k]) / h;
+      const double fl = std::floor(q);
+      c[k] = static_cast<std::int64_t>(fl);
+      side[k] = q - fl < 0.5 ? -1 : 1;
+    }
     int found = -1;
-    for (int dx = -1; dx <= 1 && found < 0; ++dx)
-      for (int dy = -1; dy <= 1 && found < 0; ++dy)
-        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
-          auto it = head.find({c.x + dx, c.y + dy, c.z + dz});
-          if (it == head.end()) continue;
-          for (int r = it->second; r >= 0; r = next[r])
-            if ((V.row(repOf[r]) - p).squaredNorm() <= tol2) {
-              found = r;
-              break;
-            }
+    for (int m = 0; m < 8 && found < 0; ++m) {
+      const std::uint64_t key = cellKey(c[0] + ((m & 1) ? side[0] : 0),
+                                        c[1] + ((m & 2) ? side[1] : 0),
+                                        c[2] + ((m & 4) ? side[2] : 0));
+      const int* hd = head.find(key);
+      if (!hd) continue;
+      for (int r = *hd; r >= 0; r = next[r])
+        if ((V.row(repOf[r]) - p).squaredNorm() <= tol2) {
+          found = r;
+          break;
         }
+    }
     if (found < 0) {
       found = static_cast<int>(repOf.size());
       repOf.push_back(v);
-      auto [it, inserted] = head.try_emplace(c, found);
-      next.push_back(inserted ? -1 : it->second);
-      it->second = found;
+      auto [slot, inserted] = head.insert(cellKey(c[0], c[1], c[2]), found);
+      next.push_back(inserted ? -1 : *slot);
+      *slot = found;
     }
     map[v] = found;
   }
@@ -159,24 +205,29 @@ CleanupReport cleanScan(Scan& scan, const CleanupOptions& options) {
 
   // === Degenerate and duplicate faces.
   const double areaEps = 1e-14 * diag * diag;
-  std::vector<int> keep;
-  keep.reserve(static_cast<std::size_t>(mesh.numFaces()));
-  std::unordered_set<TriKey, TriHash> seen;
-  seen.reserve(static_cast<std::size_t>(mesh.numFaces()));
+  std::vector<std::array<int, 4>> sorted;  // (sorted vertex triple, face)
+  sorted.reserve(static_cast<std::size_t>(mesh.numFaces()));
   for (int f = 0; f < mesh.numFaces(); ++f) {
-    const int a = map[mesh.F(f, 0)], b = map[mesh.F(f, 1)], c = map[mesh.F(f, 2)];
-    if (a == b || b == c || a == c || triangleArea(V, a, b, c) <= areaEps) {
+    std::array<int, 4> t = {map[mesh.F(f, 0)], map[mesh.F(f, 1)], map[mesh.F(f, 2)], f};
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] ||
+        triangleArea(V, t[0], t[1], t[2]) <= areaEps) {
       ++report.degenerateFaces;
       continue;
     }
-    TriKey key{{a, b, c}};
-    std::sort(key.v.begin(), key.v.end());
-    if (!seen.insert(key).second) {
+    std::sort(t.begin(), t.begin() + 3);
+    sorted.push_back(t);
+  }
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<int> keep;  // first face of each vertex set, in face order
+  keep.reserve(sorted.size());
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    if (i > 0 && std::equal(sorted[i].begin(), sorted[i].begin() + 3, sorted[i - 1].begin())) {
       ++report.duplicateFaces;
       continue;
     }
-    keep.push_back(f);
+    keep.push_back(sorted[i][3]);
   }
+  std::sort(keep.begin(), keep.end());
   if (keep.empty())
     throw InputError(fmt::format("{}: no face is left after removing degenerate faces; the mesh "
                                  "has no area",
@@ -226,6 +277,7 @@ CleanupReport cleanScan(Scan& scan, const CleanupOptions& options) {
     std::vector<Eigen::RowVector3d> extraV, extraC;
     std::vector<int> parent;
     std::vector<std::pair<int, int>> neighbourFace;  // (neighbour vertex, local face)
+    std::vector<int> fanVertex;
     for (int v = 0; v < nv; ++v) {
       const int n = start[v + 1] - start[v];
       if (n < 2) continue;
@@ -246,7 +298,7 @@ CleanupReport cleanScan(Scan& scan, const CleanupOptions& options) {
         if (neighbourFace[j].first == neighbourFace[j - 1].first)
           parent[find(neighbourFace[j].second)] = find(neighbourFace[j - 1].second);
       // Fan of the first face keeps v; every other fan gets a new copy.
-      std::vector<int> fanVertex(n, -1);
+      fanVertex.assign(n, -1);
       const int root0 = find(0);
       fanVertex[root0] = v;
       bool split = false;
