@@ -312,7 +312,7 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
           if (ig >= 0) groups.push_back(group);
         }
       }
-    } else {
+    } else if (!e.properties.empty()) {
       for (std::int64_t r = 0; r < e.count; ++r)
         for (const Property& p : e.properties) {
           if (p.isList) {
