@@ -1,9 +1,9 @@
 // Reading, cleaning and normalising a 1M-triangle binary PLY (written by the bench itself).
 //   build/bench/io_bench --benchmark_min_time=1
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <filesystem>
-#include <unistd.h>
 
 #include "core/shapes.h"
 #include "io/cleanup.h"

@@ -1,12 +1,13 @@
 #include "io/cleanup.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fmt/format.h>
 #include <numeric>
 
 #include "core/error.h"
@@ -85,7 +86,7 @@ std::vector<int> weldMap(const Eigen::MatrixX3d& V, double tol, std::vector<int>
   repOf.clear();
   FlatMap head(static_cast<std::size_t>(nv));  // cell → last representative in it
   std::vector<int> next;                       // representative → previous one in its cell
-  if (tol <= 0) {  // exact copies only: the key is the bit pattern
+  if (tol <= 0) {                              // exact copies only: the key is the bit pattern
     std::vector<std::uint64_t> keyOfRep;
     for (int v = 0; v < nv; ++v) {
       std::uint64_t bits[3];
@@ -93,8 +94,8 @@ std::vector<int> weldMap(const Eigen::MatrixX3d& V, double tol, std::vector<int>
         const double x = V(v, k) + 0.0;  // −0 → +0
         std::memcpy(&bits[k], &x, 8);
       }
-      const std::uint64_t key =
-          cellKey(static_cast<std::int64_t>(bits[0] ^ (bits[1] * 31) ^ (bits[2] * 1000003)), -1, -1);
+      const std::uint64_t key = cellKey(
+          static_cast<std::int64_t>(bits[0] ^ (bits[1] * 31) ^ (bits[2] * 1000003)), -1, -1);
       int found = -1;
       if (const int* h = head.find(key))
         for (int r = *h; r >= 0; r = next[r])
@@ -126,9 +127,9 @@ std::vector<int> weldMap(const Eigen::MatrixX3d& V, double tol, std::vector<int>
     }
     int found = -1;
     for (int m = 0; m < 8 && found < 0; ++m) {
-      const std::uint64_t key = cellKey(c[0] + ((m & 1) ? side[0] : 0),
-                                        c[1] + ((m & 2) ? side[1] : 0),
-                                        c[2] + ((m & 4) ? side[2] : 0));
+      const std::uint64_t key =
+          cellKey(c[0] + ((m & 1) ? side[0] : 0), c[1] + ((m & 2) ? side[1] : 0),
+                  c[2] + ((m & 4) ? side[2] : 0));
       const int* hd = head.find(key);
       if (!hd) continue;
       for (int r = *hd; r >= 0; r = next[r])
@@ -163,15 +164,15 @@ CleanupReport cleanScan(Scan& scan, const CleanupOptions& options) {
   TriMesh& mesh = scan.mesh;
   validateMesh(mesh, what);
   if (!(options.weldTolerance >= 0) || !std::isfinite(options.weldTolerance))
-    throw InputError(fmt::format("{}: weld tolerance {} must be finite and ≥ 0", what,
-                                 options.weldTolerance));
+    throw InputError(
+        fmt::format("{}: weld tolerance {} must be finite and ≥ 0", what, options.weldTolerance));
   const bool hasColour = scan.colour.rows() > 0;
   if (hasColour && scan.colour.rows() != mesh.V.rows())
-    throw InputError(fmt::format("{}: {} colours for {} vertices", what, scan.colour.rows(),
-                                 mesh.V.rows()));
+    throw InputError(
+        fmt::format("{}: {} colours for {} vertices", what, scan.colour.rows(), mesh.V.rows()));
   if (scan.texture && scan.texture->FUV.rows() != mesh.F.rows())
-    throw InputError(fmt::format("{}: {} UV faces for {} faces", what, scan.texture->FUV.rows(),
-                                 mesh.F.rows()));
+    throw InputError(
+        fmt::format("{}: {} UV faces for {} faces", what, scan.texture->FUV.rows(), mesh.F.rows()));
 
   const BoundingBox box = boundingBox(mesh.V);
   const double diag = box.extent().norm();
@@ -229,9 +230,10 @@ CleanupReport cleanScan(Scan& scan, const CleanupOptions& options) {
   }
   std::sort(keep.begin(), keep.end());
   if (keep.empty())
-    throw InputError(fmt::format("{}: no face is left after removing degenerate faces; the mesh "
-                                 "has no area",
-                                 what));
+    throw InputError(
+        fmt::format("{}: no face is left after removing degenerate faces; the mesh "
+                    "has no area",
+                    what));
   Eigen::MatrixX3i F(static_cast<Eigen::Index>(keep.size()), 3);
   for (std::size_t i = 0; i < keep.size(); ++i)
     for (int k = 0; k < 3; ++k) F(static_cast<Eigen::Index>(i), k) = map[mesh.F(keep[i], k)];

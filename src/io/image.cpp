@@ -1,10 +1,10 @@
 #include "io/image.h"
 
+#include <fmt/format.h>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
 #include <cmath>
-#include <fmt/format.h>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -72,8 +72,10 @@ Eigen::Vector3d sampleBilinear(const Image& image, double u, double v) {
   const double fx = std::floor(x), fy = std::floor(y);
   const double tx = x - fx, ty = y - fy;
   auto wrap = [](long i, int n) { return static_cast<int>(((i % n) + n) % n); };
-  const int x0 = wrap(static_cast<long>(fx), image.width), x1 = wrap(static_cast<long>(fx) + 1, image.width);
-  const int y0 = wrap(static_cast<long>(fy), image.height), y1 = wrap(static_cast<long>(fy) + 1, image.height);
+  const int x0 = wrap(static_cast<long>(fx), image.width),
+            x1 = wrap(static_cast<long>(fx) + 1, image.width);
+  const int y0 = wrap(static_cast<long>(fy), image.height),
+            y1 = wrap(static_cast<long>(fy) + 1, image.height);
   auto px = [&](int xi, int yi) {
     const std::size_t o = (static_cast<std::size_t>(yi) * image.width + xi) * 3;
     return Eigen::Vector3d(image.rgb[o], image.rgb[o + 1], image.rgb[o + 2]);

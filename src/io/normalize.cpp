@@ -1,9 +1,10 @@
 #include "io/normalize.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fmt/format.h>
 #include <numeric>
 #include <set>
 
@@ -13,11 +14,16 @@ namespace s2p {
 
 double metresPerUnit(Units units) {
   switch (units) {
-    case Units::Millimetres: return 0.001;
-    case Units::Centimetres: return 0.01;
-    case Units::Decimetres: return 0.1;
-    case Units::Metres: return 1.0;
-    case Units::Auto: return 1.0;
+    case Units::Millimetres:
+      return 0.001;
+    case Units::Centimetres:
+      return 0.01;
+    case Units::Decimetres:
+      return 0.1;
+    case Units::Metres:
+      return 1.0;
+    case Units::Auto:
+      return 1.0;
   }
   return 1.0;
 }
@@ -25,32 +31,49 @@ double metresPerUnit(Units units) {
 Eigen::Matrix3d upRotation(UpAxis up) {
   Eigen::Matrix3d R;
   switch (up) {
-    case UpAxis::NegY: R << 1, 0, 0, 0, -1, 0, 0, 0, -1; break;  // 180° about x
-    case UpAxis::PosZ: R << 1, 0, 0, 0, 0, 1, 0, -1, 0; break;   // y' = z, z' = −y
-    case UpAxis::NegZ: R << 1, 0, 0, 0, 0, -1, 0, 1, 0; break;   // y' = −z, z' = y
-    default: R.setIdentity();
+    case UpAxis::NegY:
+      R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+      break;  // 180° about x
+    case UpAxis::PosZ:
+      R << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+      break;  // y' = z, z' = −y
+    case UpAxis::NegZ:
+      R << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+      break;  // y' = −z, z' = y
+    default:
+      R.setIdentity();
   }
   return R;
 }
 
 const char* toString(Units units) {
   switch (units) {
-    case Units::Auto: return "auto";
-    case Units::Millimetres: return "mm";
-    case Units::Centimetres: return "cm";
-    case Units::Decimetres: return "dm";
-    case Units::Metres: return "m";
+    case Units::Auto:
+      return "auto";
+    case Units::Millimetres:
+      return "mm";
+    case Units::Centimetres:
+      return "cm";
+    case Units::Decimetres:
+      return "dm";
+    case Units::Metres:
+      return "m";
   }
   return "auto";
 }
 
 const char* toString(UpAxis up) {
   switch (up) {
-    case UpAxis::Auto: return "auto";
-    case UpAxis::PosY: return "+y";
-    case UpAxis::NegY: return "-y";
-    case UpAxis::PosZ: return "+z";
-    case UpAxis::NegZ: return "-z";
+    case UpAxis::Auto:
+      return "auto";
+    case UpAxis::PosY:
+      return "+y";
+    case UpAxis::NegY:
+      return "-y";
+    case UpAxis::PosZ:
+      return "+z";
+    case UpAxis::NegZ:
+      return "-z";
   }
   return "auto";
 }
@@ -171,11 +194,11 @@ int upVote(const TriMesh& mesh, int axis, std::string& notes) {
   const double centroid = den > 0 ? num / den : 0.5;
   const int centre = centroid > 0.52 ? 1 : (centroid < 0.48 ? -1 : 0);
 
-  notes = (fmt::format("up-axis cues along {}: contact groups low {} / high {} (vote {}), "
-                              "end areas {:.3g} / {:.3g} (vote {}), area centroid at {:.3f} of "
-                              "the height (vote {})",
-                              "xyz"[axis], lowGroups, highGroups, contact, lowArea, highArea,
-                              width, centroid, centre));
+  notes = (fmt::format(
+      "up-axis cues along {}: contact groups low {} / high {} (vote {}), "
+      "end areas {:.3g} / {:.3g} (vote {}), area centroid at {:.3f} of "
+      "the height (vote {})",
+      "xyz"[axis], lowGroups, highGroups, contact, lowArea, highArea, width, centroid, centre));
   return contact + width + centre;
 }
 
@@ -185,8 +208,7 @@ NormalizeReport normalizeScan(Scan& scan, const NormalizeOptions& options) {
   NormalizeReport report;
   const std::string what = scan.sourcePath.empty() ? std::string("scan") : scan.sourcePath;
   TriMesh& mesh = scan.mesh;
-  if (mesh.numVertices() == 0)
-    throw InputError(fmt::format("{}: the mesh has no vertices", what));
+  if (mesh.numVertices() == 0) throw InputError(fmt::format("{}: the mesh has no vertices", what));
   if (!mesh.V.allFinite())
     throw InputError(fmt::format("{}: non-finite coordinates; repair or re-export the mesh", what));
   const BoundingBox box = boundingBox(mesh.V);
@@ -200,9 +222,10 @@ NormalizeReport normalizeScan(Scan& scan, const NormalizeOptions& options) {
     report.upScore = upVote(mesh, axis, report.upCues);
     if (report.upScore == 0) {
       report.upAmbiguous = true;
-      report.warnings.push_back(fmt::format("{}: the up direction is ambiguous; assuming +{} (give "
-                                            "--up to choose)",
-                                            what, "xyz"[axis]));
+      report.warnings.push_back(
+          fmt::format("{}: the up direction is ambiguous; assuming +{} (give "
+                      "--up to choose)",
+                      what, "xyz"[axis]));
     }
     up = axis == 1 ? (report.upScore >= 0 ? UpAxis::PosY : UpAxis::NegY)
                    : (report.upScore >= 0 ? UpAxis::PosZ : UpAxis::NegZ);
@@ -223,8 +246,8 @@ NormalizeReport normalizeScan(Scan& scan, const NormalizeOptions& options) {
       }
     }
     if (units == Units::Auto)
-      throw InputError(fmt::format("{}: not a person: height {:.6g} in file units; give --units",
-                                   what, height));
+      throw InputError(
+          fmt::format("{}: not a person: height {:.6g} in file units; give --units", what, height));
   }
   report.units = units;
   report.scale = metresPerUnit(units);

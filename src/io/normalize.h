@@ -55,8 +55,8 @@ double metresPerUnit(Units units);
 // The rotation taking the file's frame to +Y up (a proper rotation, det = +1).
 Eigen::Matrix3d upRotation(UpAxis up);
 
-const char* toString(Units units);   // "auto", "mm", "cm", "dm", "m"
-const char* toString(UpAxis up);     // "auto", "+y", "-y", "+z", "-z"
+const char* toString(Units units);  // "auto", "mm", "cm", "dm", "m"
+const char* toString(UpAxis up);    // "auto", "+y", "-y", "+z", "-z"
 // CLI strings: units "auto|mm|cm|dm|m" (also full names), up "auto|+y|y|-y|+z|z|-z".
 // Case-insensitive; nullopt when unknown.
 std::optional<Units> parseUnits(std::string_view text);

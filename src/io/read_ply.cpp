@@ -1,12 +1,13 @@
 #include "io/read_ply.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fmt/format.h>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -34,24 +35,41 @@ struct Element {
 };
 
 bool parseType(const std::string& s, Type& t) {
-  if (s == "char" || s == "int8") t = Type::Int8;
-  else if (s == "uchar" || s == "uint8") t = Type::UInt8;
-  else if (s == "short" || s == "int16") t = Type::Int16;
-  else if (s == "ushort" || s == "uint16") t = Type::UInt16;
-  else if (s == "int" || s == "int32") t = Type::Int32;
-  else if (s == "uint" || s == "uint32") t = Type::UInt32;
-  else if (s == "float" || s == "float32") t = Type::Float32;
-  else if (s == "double" || s == "float64") t = Type::Float64;
-  else return false;
+  if (s == "char" || s == "int8")
+    t = Type::Int8;
+  else if (s == "uchar" || s == "uint8")
+    t = Type::UInt8;
+  else if (s == "short" || s == "int16")
+    t = Type::Int16;
+  else if (s == "ushort" || s == "uint16")
+    t = Type::UInt16;
+  else if (s == "int" || s == "int32")
+    t = Type::Int32;
+  else if (s == "uint" || s == "uint32")
+    t = Type::UInt32;
+  else if (s == "float" || s == "float32")
+    t = Type::Float32;
+  else if (s == "double" || s == "float64")
+    t = Type::Float64;
+  else
+    return false;
   return true;
 }
 
 int typeSize(Type t) {
   switch (t) {
-    case Type::Int8: case Type::UInt8: return 1;
-    case Type::Int16: case Type::UInt16: return 2;
-    case Type::Int32: case Type::UInt32: case Type::Float32: return 4;
-    case Type::Float64: return 8;
+    case Type::Int8:
+    case Type::UInt8:
+      return 1;
+    case Type::Int16:
+    case Type::UInt16:
+      return 2;
+    case Type::Int32:
+    case Type::UInt32:
+    case Type::Float32:
+      return 4;
+    case Type::Float64:
+      return 8;
   }
   return 1;
 }
@@ -67,9 +85,10 @@ class Cursor {
 
  private:
   [[noreturn]] void truncated() const {
-    throw FormatError(fmt::format("{}: the PLY body is truncated or malformed at byte {}; "
-                                  "re-export the file",
-                                  what_, pos_));
+    throw FormatError(
+        fmt::format("{}: the PLY body is truncated or malformed at byte {}; "
+                    "re-export the file",
+                    what_, pos_));
   }
 
   template <typename T>
@@ -89,14 +108,22 @@ class Cursor {
 
   double readBinary(Type t) {
     switch (t) {
-      case Type::Int8: return raw<std::int8_t>();
-      case Type::UInt8: return raw<std::uint8_t>();
-      case Type::Int16: return raw<std::int16_t>();
-      case Type::UInt16: return raw<std::uint16_t>();
-      case Type::Int32: return raw<std::int32_t>();
-      case Type::UInt32: return raw<std::uint32_t>();
-      case Type::Float32: return raw<float>();
-      case Type::Float64: return raw<double>();
+      case Type::Int8:
+        return raw<std::int8_t>();
+      case Type::UInt8:
+        return raw<std::uint8_t>();
+      case Type::Int16:
+        return raw<std::int16_t>();
+      case Type::UInt16:
+        return raw<std::uint16_t>();
+      case Type::Int32:
+        return raw<std::int32_t>();
+      case Type::UInt32:
+        return raw<std::uint32_t>();
+      case Type::Float32:
+        return raw<float>();
+      case Type::Float64:
+        return raw<double>();
     }
     return 0;
   }
@@ -115,9 +142,9 @@ class Cursor {
       v = std::strtod(std::string(first, data_ + stop).c_str(), nullptr);  // ±inf or denormal
     } else if (ec != std::errc() || ptr != data_ + stop) {
       // "nan"/"inf" are accepted by from_chars; anything else is garbage.
-      throw FormatError(fmt::format("{}: '{}' at byte {} is not a number", what_,
-                                    std::string(data_ + pos_, std::min<std::size_t>(stop - pos_, 32)),
-                                    pos_));
+      throw FormatError(
+          fmt::format("{}: '{}' at byte {} is not a number", what_,
+                      std::string(data_ + pos_, std::min<std::size_t>(stop - pos_, 32)), pos_));
     }
     pos_ = stop;
     return v;
@@ -166,10 +193,14 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
     if (key == "format") {
       std::string f;
       ls >> f;
-      if (f == "ascii") enc = Encoding::Ascii;
-      else if (f == "binary_little_endian") enc = Encoding::BinaryLe;
-      else if (f == "binary_big_endian") enc = Encoding::BinaryBe;
-      else throw FormatError(fmt::format("{}: unknown PLY format '{}'", what, f));
+      if (f == "ascii")
+        enc = Encoding::Ascii;
+      else if (f == "binary_little_endian")
+        enc = Encoding::BinaryLe;
+      else if (f == "binary_big_endian")
+        enc = Encoding::BinaryBe;
+      else
+        throw FormatError(fmt::format("{}: unknown PLY format '{}'", what, f));
       haveFormat = true;
     } else if (key == "element") {
       Element e;
@@ -215,9 +246,10 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
       needed += row * static_cast<double>(e.count);
     }
     if (needed > static_cast<double>(bytes.size() - bodyStart) + 1)
-      throw FormatError(fmt::format("{}: the PLY header announces more data than the file holds "
-                                    "({} bytes after the header); the file is truncated",
-                                    what, bytes.size() - bodyStart));
+      throw FormatError(
+          fmt::format("{}: the PLY header announces more data than the file holds "
+                      "({} bytes after the header); the file is truncated",
+                      what, bytes.size() - bodyStart));
   }
 
   // === Body
@@ -231,7 +263,8 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
     if (e.name == "vertex") {
       if (haveVertex) throw FormatError(fmt::format("{}: two PLY vertex elements", what));
       haveVertex = true;
-      const int ix = findProperty(e, {"x"}), iy = findProperty(e, {"y"}), iz = findProperty(e, {"z"});
+      const int ix = findProperty(e, {"x"}), iy = findProperty(e, {"y"}),
+                iz = findProperty(e, {"z"});
       if (ix < 0 || iy < 0 || iz < 0)
         throw FormatError(fmt::format("{}: the PLY vertex element has no x, y, z", what));
       const int ir = findProperty(e, {"red", "r", "diffuse_red"});
@@ -263,8 +296,8 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
             const Type t = e.properties[pi].type;
             const double c = row[pi];
             const double scaled = t == Type::Float32 || t == Type::Float64 ? c
-                                  : t == Type::UInt16                    ? c / 65535.0
-                                                                         : c / 255.0;
+                                  : t == Type::UInt16                      ? c / 65535.0
+                                                                           : c / 255.0;
             out.colour(v, k) = std::isfinite(scaled) ? std::clamp(scaled, 0.0, 1.0) : 0.0;
           }
         }
@@ -338,7 +371,8 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
       out.mesh.F(static_cast<Eigen::Index>(t), k) = idx;
     }
   if (!groups.empty())
-    out.faceGroup = Eigen::Map<Eigen::VectorXi>(groups.data(), static_cast<Eigen::Index>(groups.size()));
+    out.faceGroup =
+        Eigen::Map<Eigen::VectorXi>(groups.data(), static_cast<Eigen::Index>(groups.size()));
   if (skippedPolygons > 0)
     out.warnings.push_back(
         fmt::format("{}: {} faces with fewer than 3 vertices skipped", what, skippedPolygons));

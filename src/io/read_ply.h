@@ -13,10 +13,10 @@
 namespace s2p {
 
 struct PlyData {
-  TriMesh mesh;              // polygons fan-triangulated, in file order
-  Eigen::MatrixX3d colour;   // #V×3 sRGB in [0, 1]; 0 rows without red/green/blue
-  Eigen::VectorXi labels;    // #V from an integer "label" property; empty when absent
-  Eigen::VectorXi faceGroup; // #F from a face "group" property (per triangle); empty if absent
+  TriMesh mesh;               // polygons fan-triangulated, in file order
+  Eigen::MatrixX3d colour;    // #V×3 sRGB in [0, 1]; 0 rows without red/green/blue
+  Eigen::VectorXi labels;     // #V from an integer "label" property; empty when absent
+  Eigen::VectorXi faceGroup;  // #F from a face "group" property (per triangle); empty if absent
   std::vector<std::string> warnings;
 };
 

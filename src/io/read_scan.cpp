@@ -1,14 +1,14 @@
 #include "io/read_scan.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <fmt/format.h>
 
 #include <algorithm>
+#include <assimp/Importer.hpp>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
-#include <fmt/format.h>
 #include <map>
 
 #include "core/error.h"
@@ -41,8 +41,8 @@ void precheck(const std::string& ext, const std::string& bytes, const std::strin
     if (bytes.compare(0, 4, "glTF") != 0)
       throw FormatError(fmt::format("{}: not a GLB file (no 'glTF' magic)", what));
     if (le32(bytes, 4) != 2)
-      throw FormatError(fmt::format("{}: GLB version {} is not supported; use glTF 2.0", what,
-                                    le32(bytes, 4)));
+      throw FormatError(
+          fmt::format("{}: GLB version {} is not supported; use glTF 2.0", what, le32(bytes, 4)));
     const std::uint64_t length = le32(bytes, 8);
     if (length > bytes.size())
       throw FormatError(fmt::format("{}: GLB header says {} bytes but the file has {}: truncated",
@@ -94,7 +94,10 @@ class SceneReader {
  public:
   SceneReader(const aiScene& scene, const fs::path& path, bool linearColours,
               const ReadOptions& options, std::vector<std::string>& warnings)
-      : scene_(scene), path_(path), linearColours_(linearColours), options_(options),
+      : scene_(scene),
+        path_(path),
+        linearColours_(linearColours),
+        options_(options),
         warnings_(warnings) {}
 
   void readNode(const aiNode& node, const Eigen::Matrix4d& parent, int depth) {
@@ -179,8 +182,8 @@ class SceneReader {
       if (const aiTexture* tex = scene_.GetEmbeddedTexture(key.c_str())) {
         where = fmt::format("{} (embedded texture {})", path_.string(), key);
         if (tex->mHeight == 0) {
-          slot = decodeImage(reinterpret_cast<const std::uint8_t*>(tex->pcData), tex->mWidth,
-                             where);
+          slot =
+              decodeImage(reinterpret_cast<const std::uint8_t*>(tex->pcData), tex->mWidth, where);
         } else {
           slot.width = static_cast<int>(tex->mWidth);
           slot.height = static_cast<int>(tex->mHeight);
@@ -199,9 +202,10 @@ class SceneReader {
         where = file.string();
         std::error_code ec;
         if (!fs::is_regular_file(file, ec)) {
-          warnings_.push_back(fmt::format("{}: texture '{}' not found; continuing without its "
-                                          "colours",
-                                          path_.string(), file.string()));
+          warnings_.push_back(
+              fmt::format("{}: texture '{}' not found; continuing without its "
+                          "colours",
+                          path_.string(), file.string()));
           return nullptr;
         }
         slot = readImage(file);
@@ -215,9 +219,10 @@ class SceneReader {
       firstImage_ = key;
       firstImagePath_ = where;
     } else if (key != firstImage_) {
-      warnings_.push_back(fmt::format("{}: several textures; colours are sampled from each but "
-                                      "only '{}' is kept for export",
-                                      path_.string(), firstImage_));
+      warnings_.push_back(
+          fmt::format("{}: several textures; colours are sampled from each but "
+                      "only '{}' is kept for export",
+                      path_.string(), firstImage_));
     }
     return &slot;
   }
@@ -232,8 +237,8 @@ class SceneReader {
 Scan readWithAssimp(const fs::path& path, const std::string& ext, const ReadOptions& options,
                     std::vector<std::string>& warnings) {
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(
-      path.string(), aiProcess_Triangulate | aiProcess_ValidateDataStructure);
+  const aiScene* scene =
+      importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_ValidateDataStructure);
   if (scene == nullptr)
     throw FormatError(fmt::format("{}: cannot be read as {} ({}); re-export the file",
                                   path.string(), ext, importer.GetErrorString()));
@@ -255,8 +260,8 @@ Scan readWithAssimp(const fs::path& path, const std::string& ext, const ReadOpti
   for (std::size_t f = 0; f < b.F.size(); ++f)
     scan.mesh.F.row(static_cast<Eigen::Index>(f)) = b.F[f].transpose();
   if (b.skippedFaces > 0)
-    warnings.push_back(fmt::format("{}: {} point/line primitives ignored", path.string(),
-                                   b.skippedFaces));
+    warnings.push_back(
+        fmt::format("{}: {} point/line primitives ignored", path.string(), b.skippedFaces));
 
   if (reader.anyTextureColour_ || reader.anyVertexColour_) {
     scan.colour.resize(nv, 3);
@@ -317,8 +322,7 @@ Scan readScan(const fs::path& path, const ReadOptions& options, ReadReport* repo
   if (report) {
     report->format = ext.substr(1);
     report->warnings.insert(report->warnings.end(), warnings.begin(), warnings.end());
-    report->seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   return scan;
 }

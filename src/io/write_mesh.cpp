@@ -1,15 +1,16 @@
 #include "io/write_mesh.h"
 
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fmt/format.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
-#include <unistd.h>
 
 #include "core/error.h"
 #include "io/image.h"
@@ -28,9 +29,10 @@ void writeFileAtomically(const fs::path& path, const std::string& bytes) {
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out)
-      throw IoError(fmt::format("{}: cannot create a file in {}; check the folder exists and is "
-                                "writable",
-                                path.string(), dir.string()));
+      throw IoError(
+          fmt::format("{}: cannot create a file in {}; check the folder exists and is "
+                      "writable",
+                      path.string(), dir.string()));
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     out.close();
     if (!out) {
@@ -75,8 +77,8 @@ std::uint8_t toByte(double c) {
 void checkAttributes(const fs::path& path, const TriMesh& mesh, const MeshAttributes& attrs) {
   const auto nv = mesh.V.rows(), nf = mesh.F.rows();
   if (attrs.colour && attrs.colour->rows() != nv)
-    throw InputError(fmt::format("{}: {} colours for {} vertices", path.string(),
-                                 attrs.colour->rows(), nv));
+    throw InputError(
+        fmt::format("{}: {} colours for {} vertices", path.string(), attrs.colour->rows(), nv));
   if (attrs.vertexLabels && attrs.vertexLabels->size() != nv)
     throw InputError(fmt::format("{}: {} vertex labels for {} vertices", path.string(),
                                  attrs.vertexLabels->size(), nv));
@@ -103,9 +105,8 @@ std::vector<int> facesByGroup(const TriMesh& mesh, const MeshAttributes& attrs) 
   std::vector<int> order(mesh.numFaces());
   std::iota(order.begin(), order.end(), 0);
   if (attrs.faceGroups)
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      return (*attrs.faceGroups)(a) < (*attrs.faceGroups)(b);
-    });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return (*attrs.faceGroups)(a) < (*attrs.faceGroups)(b); });
   return order;
 }
 
@@ -185,9 +186,9 @@ void writeObjTextured(const fs::path& path, const TriMesh& mesh, const Texture& 
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   const std::string png = encodePng(texture.image);
   writeFileAtomically(dir / (stem + ".png"), png);
-  writeFileAtomically(dir / (stem + ".mtl"),
-                      fmt::format("newmtl scan\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd {}.png\n",
-                                  stem));
+  writeFileAtomically(
+      dir / (stem + ".mtl"),
+      fmt::format("newmtl scan\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd {}.png\n", stem));
   std::string out = fmt::format("# written by scan2pattern\nmtllib {}.mtl\n", stem);
   for (int v = 0; v < mesh.numVertices(); ++v)
     out += fmt::format("v {:.9g} {:.9g} {:.9g}\n", mesh.V(v, 0), mesh.V(v, 1), mesh.V(v, 2));
@@ -319,8 +320,8 @@ void writeMesh(const fs::path& path, const TriMesh& mesh, const MeshAttributes& 
   if (ext == ".ply") return writePly(path, mesh, attrs);
   if (ext == ".obj") return writeObj(path, mesh, attrs);
   if (ext == ".glb") return writeGlb(path, mesh, attrs);
-  throw IoError(fmt::format("{}: unknown mesh extension '{}'; use .ply, .obj or .glb",
-                            path.string(), ext));
+  throw IoError(
+      fmt::format("{}: unknown mesh extension '{}'; use .ply, .obj or .glb", path.string(), ext));
 }
 
 }  // namespace s2p

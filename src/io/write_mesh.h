@@ -15,9 +15,9 @@ namespace s2p {
 
 // Optional per-element data written with a mesh; null pointers are left out.
 struct MeshAttributes {
-  const Eigen::MatrixX3d* colour = nullptr;         // #V×3 sRGB in [0, 1]
-  const Eigen::VectorXi* vertexLabels = nullptr;    // #V, written to PLY "label"
-  const Eigen::VectorXi* faceGroups = nullptr;      // #F group ids in [0, #groups)
+  const Eigen::MatrixX3d* colour = nullptr;              // #V×3 sRGB in [0, 1]
+  const Eigen::VectorXi* vertexLabels = nullptr;         // #V, written to PLY "label"
+  const Eigen::VectorXi* faceGroups = nullptr;           // #F group ids in [0, #groups)
   const std::vector<std::string>* groupNames = nullptr;  // name of each group id
 };
 

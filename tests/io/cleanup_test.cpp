@@ -99,13 +99,13 @@ TEST(CleanScan, DropsDegenerateDuplicateAndUnreferenced) {
   const int n = grid.numVertices();
   m.V.conservativeResize(n + 2, 3);
   m.V.row(n) = 0.5 * (grid.V.row(0) + grid.V.row(1));  // midpoint of edge 0–1
-  m.V.row(n + 1) << 7, 7, 7;                            // never referenced
+  m.V.row(n + 1) << 7, 7, 7;                           // never referenced
   const int nf = grid.numFaces();
   m.F.conservativeResize(nf + 4, 3);
-  m.F.row(nf) << grid.F(0, 1), grid.F(0, 2), grid.F(0, 0);  // duplicate, rotated
+  m.F.row(nf) << grid.F(0, 1), grid.F(0, 2), grid.F(0, 0);      // duplicate, rotated
   m.F.row(nf + 1) << grid.F(1, 2), grid.F(1, 1), grid.F(1, 0);  // duplicate, flipped
-  m.F.row(nf + 2) << 0, n, 1;                            // collinear: zero area
-  m.F.row(nf + 3) << 2, 2, 3;                            // repeated index
+  m.F.row(nf + 2) << 0, n, 1;                                   // collinear: zero area
+  m.F.row(nf + 3) << 2, 2, 3;                                   // repeated index
   Scan scan;
   scan.mesh = m;
   const CleanupReport r = cleanScan(scan);

@@ -21,9 +21,8 @@ template <typename E>
     fn();
   } catch (const std::exception& e) {
     if (typeid(e) == typeid(E)) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure()
-           << "threw " << typeid(e).name() << " instead of " << typeid(E).name() << ": "
-           << e.what();
+    return ::testing::AssertionFailure() << "threw " << typeid(e).name() << " instead of "
+                                         << typeid(E).name() << ": " << e.what();
   }
   return ::testing::AssertionFailure() << "threw nothing";
 }
@@ -60,8 +59,8 @@ inline TriMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
 // x ∈ [−0.2, 0.2], z ∈ [−0.05, 0.2].
 inline TriMesh makePerson() {
   using V3 = Eigen::Vector3d;
-  TriMesh m = makeBox(V3(-0.2, 0, -0.05), V3(-0.05, 0.08, 0.2));     // left foot
-  m = concat(m, makeBox(V3(0.05, 0, -0.05), V3(0.2, 0.08, 0.2)));     // right foot
+  TriMesh m = makeBox(V3(-0.2, 0, -0.05), V3(-0.05, 0.08, 0.2));          // left foot
+  m = concat(m, makeBox(V3(0.05, 0, -0.05), V3(0.2, 0.08, 0.2)));         // right foot
   m = concat(m, makeBox(V3(-0.17, 0.08, -0.05), V3(-0.08, 0.85, 0.05)));  // legs
   m = concat(m, makeBox(V3(0.08, 0.08, -0.05), V3(0.17, 0.85, 0.05)));
   m = concat(m, makeBox(V3(-0.2, 0.85, -0.12), V3(0.2, 1.45, 0.12)));  // torso

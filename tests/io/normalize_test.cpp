@@ -113,8 +113,8 @@ TEST(NormalizeScan, AbsurdSizeIsNotAPerson) {
 }
 
 TEST(NormalizeScan, ParsesAndPrintsCliStrings) {
-  for (const Units u : {Units::Auto, Units::Millimetres, Units::Centimetres, Units::Decimetres,
-                        Units::Metres})
+  for (const Units u :
+       {Units::Auto, Units::Millimetres, Units::Centimetres, Units::Decimetres, Units::Metres})
     EXPECT_EQ(parseUnits(toString(u)), u);
   for (const UpAxis a : {UpAxis::Auto, UpAxis::PosY, UpAxis::NegY, UpAxis::PosZ, UpAxis::NegZ})
     EXPECT_EQ(parseUpAxis(toString(a)), a);

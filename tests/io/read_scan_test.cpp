@@ -1,10 +1,10 @@
 #include "io/read_scan.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <cstring>
-#include <fmt/format.h>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -186,12 +186,12 @@ TEST(ReadScan, GlbNodesAreConcatenatedWithTransforms) {
   const TriMesh m = makeIcosphere(1, 0.5);
   writeGlb(dir / "one.glb", m);
   // Two nodes instancing the mesh: one translated by (2, 0, 0), one scaled by 2 about the origin.
-  test::writeFile(dir / "two.glb", editGlb(test::readFile(dir / "one.glb"),
-                                           [](nlohmann::json& j, std::string&) {
-                                             j["nodes"] = {{{"mesh", 0}, {"translation", {2, 0, 0}}},
-                                                           {{"mesh", 0}, {"scale", {2, 2, 2}}}};
-                                             j["scenes"][0]["nodes"] = {0, 1};
-                                           }));
+  test::writeFile(dir / "two.glb",
+                  editGlb(test::readFile(dir / "one.glb"), [](nlohmann::json& j, std::string&) {
+                    j["nodes"] = {{{"mesh", 0}, {"translation", {2, 0, 0}}},
+                                  {{"mesh", 0}, {"scale", {2, 2, 2}}}};
+                    j["scenes"][0]["nodes"] = {0, 1};
+                  }));
   Scan scan = readScan(dir / "two.glb");
   cleanScan(scan);
   ASSERT_EQ(scan.mesh.numVertices(), 2 * m.numVertices());
@@ -212,30 +212,32 @@ TEST(ReadScan, GlbEmbeddedBaseColourTexture) {
   writeGlb(dir / "plain.glb", quad);
   // UVs: vertex v samples block v (red, green, blue, yellow).
   const std::string png = encodePng(blockImage());
-  test::writeFile(dir / "tex.glb", editGlb(test::readFile(dir / "plain.glb"), [&](nlohmann::json& j,
-                                                                                   std::string& bin) {
-    const std::size_t uvOffset = bin.size();
-    for (int v = 0; v < 4; ++v) {
-      // glTF UVs have v down: (u, 1 − v_GL).
-      const float uv[2] = {static_cast<float>(blockUv(v)[0]),
-                           static_cast<float>(1.0 - blockUv(v)[1])};
-      bin.append(reinterpret_cast<const char*>(uv), 8);
-    }
-    const std::size_t imgOffset = bin.size();
-    bin += png;
-    j["bufferViews"].push_back(
-        {{"buffer", 0}, {"byteOffset", uvOffset}, {"byteLength", 32}, {"target", 34962}});
-    j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", imgOffset}, {"byteLength", png.size()}});
-    const int nViews = static_cast<int>(j["bufferViews"].size());
-    j["accessors"].push_back(
-        {{"bufferView", nViews - 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
-    j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = j["accessors"].size() - 1;
-    j["meshes"][0]["primitives"][0]["material"] = 0;
-    j["images"] = {{{"bufferView", nViews - 1}, {"mimeType", "image/png"}}};
-    j["samplers"] = {{{"magFilter", 9729}, {"minFilter", 9729}}};
-    j["textures"] = {{{"source", 0}, {"sampler", 0}}};
-    j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
-  }));
+  test::writeFile(
+      dir / "tex.glb",
+      editGlb(test::readFile(dir / "plain.glb"), [&](nlohmann::json& j, std::string& bin) {
+        const std::size_t uvOffset = bin.size();
+        for (int v = 0; v < 4; ++v) {
+          // glTF UVs have v down: (u, 1 − v_GL).
+          const float uv[2] = {static_cast<float>(blockUv(v)[0]),
+                               static_cast<float>(1.0 - blockUv(v)[1])};
+          bin.append(reinterpret_cast<const char*>(uv), 8);
+        }
+        const std::size_t imgOffset = bin.size();
+        bin += png;
+        j["bufferViews"].push_back(
+            {{"buffer", 0}, {"byteOffset", uvOffset}, {"byteLength", 32}, {"target", 34962}});
+        j["bufferViews"].push_back(
+            {{"buffer", 0}, {"byteOffset", imgOffset}, {"byteLength", png.size()}});
+        const int nViews = static_cast<int>(j["bufferViews"].size());
+        j["accessors"].push_back(
+            {{"bufferView", nViews - 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+        j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = j["accessors"].size() - 1;
+        j["meshes"][0]["primitives"][0]["material"] = 0;
+        j["images"] = {{{"bufferView", nViews - 1}, {"mimeType", "image/png"}}};
+        j["samplers"] = {{{"magFilter", 9729}, {"minFilter", 9729}}};
+        j["textures"] = {{{"source", 0}, {"sampler", 0}}};
+        j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+      }));
   ReadReport report;
   Scan scan = readScan(dir / "tex.glb", {}, &report);
   EXPECT_TRUE(report.warnings.empty());

@@ -108,7 +108,8 @@ TEST(WriteObj, GroupsAndColoursRoundTripThroughAssimp) {
   Eigen::VectorXi groups(s.mesh.numFaces());
   for (int f = 0; f < groups.size(); ++f) groups(f) = s.mesh.V(s.mesh.F(f, 0), 0) > 0 ? 1 : 0;
   const std::vector<std::string> names = {"left", "right"};
-  writeObj(dir / "a.obj", s.mesh, {.colour = &s.colour, .faceGroups = &groups, .groupNames = &names});
+  writeObj(dir / "a.obj", s.mesh,
+           {.colour = &s.colour, .faceGroups = &groups, .groupNames = &names});
   const std::string text = test::readFile(dir / "a.obj");
   EXPECT_NE(text.find("g left\n"), std::string::npos);
   EXPECT_NE(text.find("g right\n"), std::string::npos);
@@ -248,7 +249,8 @@ TEST(WriteMesh, UnwritablePathThrowsAndLeavesNothing) {
   writePly(dir / "keep.ply", m);
   const std::string before = test::readFile(dir / "keep.ply");
   const Eigen::MatrixX3d colour = Eigen::MatrixX3d::Zero(2, 3);  // wrong row count
-  EXPECT_TRUE(throwsExactly<InputError>([&] { writePly(dir / "keep.ply", m, {.colour = &colour}); }));
+  EXPECT_TRUE(
+      throwsExactly<InputError>([&] { writePly(dir / "keep.ply", m, {.colour = &colour}); }));
   EXPECT_EQ(test::readFile(dir / "keep.ply"), before);
   int files = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir.path())) {
