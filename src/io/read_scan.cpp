@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
@@ -31,6 +32,78 @@ std::uint32_t le32(const std::string& b, std::size_t at) {
   std::uint32_t v;
   std::memcpy(&v, b.data() + at, 4);
   return v;
+}
+
+// OBJ: every face index must name an existing v/vt/vn (assimp throws, and leaks, otherwise).
+void checkObjIndices(const std::string& bytes, const std::string& what) {
+  long counts[3] = {0, 0, 0};  // v, vt, vn so far
+  long totals[3] = {0, 0, 0};
+  for (std::size_t pos = 0; pos < bytes.size();) {
+    std::size_t end = bytes.find('\n', pos);
+    if (end == std::string::npos) end = bytes.size();
+    std::size_t b = pos;
+    while (b < end && (bytes[b] == ' ' || bytes[b] == '\t')) ++b;
+    auto starts = [&](const char* key) {
+      const std::size_t n = std::strlen(key);
+      return end - b > n && bytes.compare(b, n, key) == 0 &&
+             (bytes[b + n] == ' ' || bytes[b + n] == '\t');
+    };
+    if (starts("v"))
+      ++totals[0];
+    else if (starts("vt"))
+      ++totals[1];
+    else if (starts("vn"))
+      ++totals[2];
+    pos = end + 1;
+  }
+  if (totals[0] == 0)
+    throw FormatError(fmt::format("{}: no 'v' vertex lines: not an OBJ mesh", what));
+  std::size_t lineNo = 0;
+  for (std::size_t pos = 0; pos < bytes.size(); ++lineNo) {
+    std::size_t end = bytes.find('\n', pos);
+    if (end == std::string::npos) end = bytes.size();
+    std::size_t b = pos;
+    while (b < end && (bytes[b] == ' ' || bytes[b] == '\t')) ++b;
+    const bool isSpace = end - b > 1 && (bytes[b + 1] == ' ' || bytes[b + 1] == '\t');
+    const bool isV =
+        end - b > 2 && bytes[b] == 'v' && (bytes[b + 2] == ' ' || bytes[b + 2] == '\t');
+    if (end - b > 1 && bytes[b] == 'v' && isSpace)
+      ++counts[0];
+    else if (isV && bytes[b + 1] == 't')
+      ++counts[1];
+    else if (isV && bytes[b + 1] == 'n')
+      ++counts[2];
+    else if (end - b > 1 && bytes[b] == 'f' && isSpace) {
+      std::size_t i = b + 1;
+      while (i < end) {
+        while (i < end && (bytes[i] == ' ' || bytes[i] == '\t' || bytes[i] == '\r')) ++i;
+        if (i >= end || bytes[i] == '#') break;
+        for (int slot = 0; slot < 3 && i < end; ++slot) {
+          if (slot > 0) {
+            if (bytes[i] != '/') break;
+            ++i;
+          }
+          long value = 0;
+          const auto [ptr, ec] = std::from_chars(bytes.data() + i, bytes.data() + end, value);
+          if (ec != std::errc()) {
+            if (slot == 0)
+              throw FormatError(fmt::format("{}: line {}: a face corner without a vertex index",
+                                            what, lineNo + 1));
+            continue;  // "1//3": no texture index
+          }
+          i = static_cast<std::size_t>(ptr - bytes.data());
+          const long available = value < 0 ? counts[slot] : totals[slot];
+          if (value == 0 || std::abs(value) > available)
+            throw FormatError(fmt::format("{}: line {}: face index {} but the file has {} {}", what,
+                                          lineNo + 1, value, available,
+                                          slot == 0 ? "v" : (slot == 1 ? "vt" : "vn")));
+        }
+        if (i < end && bytes[i] != ' ' && bytes[i] != '\t' && bytes[i] != '\r')
+          throw FormatError(fmt::format("{}: line {}: malformed face corner", what, lineNo + 1));
+      }
+    }
+    pos = end + 1;
+  }
 }
 
 // Cheap structural checks before handing bytes to assimp, which is slow or fragile on garbage.
@@ -66,11 +139,7 @@ void precheck(const std::string& ext, const std::string& bytes, const std::strin
     if (first == std::string::npos || bytes[first] != '{')
       throw FormatError(fmt::format("{}: not a glTF JSON file", what));
   }
-  if (ext == ".obj") {
-    if (bytes.compare(0, 2, "v ") != 0 && bytes.find("\nv ") == std::string::npos &&
-        bytes.find("\nv\t") == std::string::npos)
-      throw FormatError(fmt::format("{}: no 'v' vertex lines: not an OBJ mesh", what));
-  }
+  if (ext == ".obj") checkObjIndices(bytes, what);
 }
 
 Eigen::Matrix4d toEigen(const aiMatrix4x4& m) {

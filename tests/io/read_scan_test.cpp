@@ -253,6 +253,19 @@ TEST(ReadScan, GlbEmbeddedBaseColourTexture) {
   }
 }
 
+TEST(ReadScan, ObjRelativeIndicesCommentsAndPolygons) {
+  TempDir dir;
+  test::writeFile(dir / "a.obj",
+                  "# square and a pentagon\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                  "f -4 -3 -2 -1\nv 2 0 0\nv 2 1 0\nf 2 5 6 3\r\nf 1 2 3 4 1\n");
+  Scan scan = readScan(dir / "a.obj");
+  EXPECT_EQ(scan.mesh.numFaces(), 2 + 2 + 3);  // quad, quad, pentagon (repeats vertex 1)
+  const CleanupReport r = cleanScan(scan);
+  EXPECT_EQ(scan.mesh.numVertices(), 6);
+  EXPECT_NEAR(surfaceArea(scan.mesh), 2.0, 1e-12);
+  EXPECT_EQ(r.degenerateFaces + r.duplicateFaces, 3);  // the pentagon repeats the first quad
+}
+
 // === Bad input: each yields its documented error type.
 
 TEST(ReadScan, MissingFileIsIoError) {
@@ -296,6 +309,11 @@ TEST(ReadScan, EmptyGarbageTruncatedAndUnknownAreFormatErrors) {
        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
        "property float z\nend_header\n0 0 zero\n1 0 0\n0 1 0\n"},
       {"mesh.stl", "solid x\nendsolid x\n"},
+      {"badindex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 103\n"},
+      {"badvt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n"},
+      {"zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"},
+      {"relative.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n"},
+      {"corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x3\n"},
   };
   for (const auto& [name, bytes] : cases) {
     test::writeFile(dir / name, bytes);
@@ -315,6 +333,7 @@ TEST(ReadScan, NoFacesAndNonFiniteAreInputErrors) {
       {"nan.ply", header + "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"},
       {"inf.ply", header + "0 0 0\n1 0 0\n0 1e999 0\n3 0 1 2\n"},
       {"nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n"},
+      {"lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\n"},
   };
   for (const auto& [name, bytes] : cases) {
     test::writeFile(dir / name, bytes);
