@@ -73,7 +73,9 @@ void checkObjIndices(const std::string& bytes, const std::string& what) {
       ++counts[1];
     else if (isV && bytes[b + 1] == 'n')
       ++counts[2];
-    else if (end - b > 1 && bytes[b] == 'f' && isSpace) {
+    else if (end - b > 1 && bytes[b] == 'f' && !isSpace && bytes[b + 1] != '\r')
+      throw FormatError(fmt::format("{}: line {}: malformed face line", what, lineNo + 1));
+    else if (end - b > 1 && bytes[b] == 'f') {
       std::size_t i = b + 1;
       while (i < end) {
         while (i < end && (bytes[i] == ' ' || bytes[i] == '\t' || bytes[i] == '\r')) ++i;
