@@ -53,8 +53,13 @@ void addLoadOptions(CLI::App* cmd, LoadOptions& opt) {
 
 LoadedScan loadScan(const fs::path& path, const LoadOptions& opt, Progress& progress) {
   NormalizeOptions normOpt;
-  normOpt.units = parseUnits(opt.units);
-  normOpt.up = parseUpAxis(opt.up);
+  const auto units = parseUnits(opt.units);
+  if (!units)
+    throw CLI::ValidationError("--units", "unknown units '" + opt.units + "': use auto, mm, cm, dm or m");
+  const auto up = parseUpAxis(opt.up);
+  if (!up) throw CLI::ValidationError("--up", "unknown axis '" + opt.up + "': use auto, +y, -y, +z or -z");
+  normOpt.units = *units;
+  normOpt.up = *up;
   LoadedScan out;
   progress.begin(fmt::format("read {}", path.filename().string()));
   out.scan = readScan(path, {}, &out.read);

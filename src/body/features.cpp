@@ -167,6 +167,7 @@ constexpr double kAnkleLoopT = 0.12;   // ankle → knee: just above the ankle b
 constexpr double kWaistT = 0.22;       // pelvis → neck: navel height
 constexpr double kChestT = 0.62;       // pelvis → neck: chest (front/back sign points)
 constexpr double kHipT = 0.04;         // pelvis → neck: hip section above the crotch
+constexpr double kArmholeT = 0.12;     // shoulder → elbow: armhole just outside the joint
 
 void boundaryFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   // B(U|S): loops around the neck and both wrists; + nose, hand tips; − chest front/back.
@@ -312,7 +313,9 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     const Vec3 n = ((r.at(s.elbow) - r.at(s.shoulder)).normalized() + s.sign * kLeft).normalized();
     shoulder.splines.push_back(closedSpline(
         r, fmt::format("{}_armhole", s.name),
-        r.loopAround(r.at(s.shoulder), n, fmt::format("{} armhole", s.name)), n,
+        r.loopAround(r.along(s.shoulder, s.elbow, kArmholeT), n,
+                     fmt::format("{} armhole", s.name)),
+        n,
         opt.loopAnchors));
   }
   const SectionLoop chest = r.torsoLoop(kChestT, "chest");
