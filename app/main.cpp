@@ -13,6 +13,11 @@
 #include <sstream>
 #include <string>
 
+#include "body/body_json.h"
+#include "body/body_source.h"
+#include "body/features.h"
+#include "body/measurements.h"
+#include "body/posing.h"
 #include "core/error.h"
 #include "core/mesh_topology.h"
 #include "core/progress.h"
@@ -190,13 +195,130 @@ MeshAttributes colourAttributes(const Scan& scan) {
   return attrs;
 }
 
-// === demo: the main job on the built-in scan (until the pipeline exists, read + clean +
-// normalise + info + preview).
+// === body: a body model, shaped, posed, measured, with its feature points
+
+struct BodyCommand {
+  std::string model = "mannequin";
+  std::string shape;
+  std::string measurements;
+  std::string pose = "apose";
+  std::string out = "body_out";
+};
+
+BodyPose resolvePose(const BodyModel& model, const Eigen::VectorXd& shape, const std::string& pose) {
+  if (pose == "rest") return standardPose(model, shape, StandardPose::Rest);
+  if (pose == "apose") return standardPose(model, shape, StandardPose::APose);
+  if (pose == "tpose") return standardPose(model, shape, StandardPose::TPose);
+  return readPoseJson(pose, model);
+}
+
+// Feature splines as closed/open polylines through their anchors, sign points (+ blue, − magenta)
+// and region points coloured by label, drawn over the body (paper Fig. 4 and Fig. 11).
+Scene featureScene(const TriMesh& mesh, const FeatureSet& fs) {
+  Scene scene;
+  scene.meshes.push_back({&mesh, nullptr, Rgb{215, 205, 195}});
+  auto addCurves = [&](const CurveFeatures& c, Rgb colour) {
+    for (const auto& s : c.splines) {
+      Polyline line;
+      line.points.resize(static_cast<int>(s.anchors.size()), 3);
+      for (size_t i = 0; i < s.anchors.size(); ++i) line.points.row(i) = s.anchors[i].position(mesh);
+      line.colour = colour;
+      line.closed = s.closed;
+      line.widthPx = 3;
+      scene.points.push_back({line.points, Rgb{20, 140, 20}, 4});
+      scene.lines.push_back(std::move(line));
+    }
+    PointSet pos{Eigen::MatrixX3d(0, 3), Rgb{30, 60, 230}, 6}, neg{Eigen::MatrixX3d(0, 3), Rgb{220, 30, 200}, 6};
+    for (const auto& sp : c.signs) {
+      PointSet& set = sp.value > 0 ? pos : neg;
+      set.points.conservativeResize(set.points.rows() + 1, 3);
+      set.points.row(set.points.rows() - 1) = sp.point.position(mesh);
+    }
+    scene.points.push_back(pos);
+    scene.points.push_back(neg);
+  };
+  addCurves(fs.upperSkin, Rgb{230, 40, 40});
+  addCurves(fs.lowerSkin, Rgb{230, 140, 20});
+  addCurves(fs.upperLower, Rgb{150, 40, 200});
+  for (const auto& seam : fs.seams) addCurves(seam, Rgb{40, 120, 220});
+  const Rgb regionColour[] = {{250, 200, 150}, {230, 60, 60}, {60, 90, 220}, {40, 40, 40}};
+  for (int l = 0; l < 4; ++l) {
+    PointSet set{Eigen::MatrixX3d(0, 3), regionColour[l], 2.5f};
+    for (const auto& r : fs.regions)
+      if (static_cast<int>(r.label) == l) {
+        set.points.conservativeResize(set.points.rows() + 1, 3);
+        set.points.row(set.points.rows() - 1) = r.point.position(mesh);
+      }
+    scene.points.push_back(set);
+  }
+  return scene;
+}
+
+void writeJson(const fs::path& path, const json& j) {
+  writeFileAtomically(path, j.dump(2) + "\n");
+}
+
+int runBody(const BodyCommand& cmd, Progress& progress) {
+  progress.begin("load body model " + cmd.model);
+  const BodyModel model = loadBodyModel(cmd.model);
+  progress.end();
+  Eigen::VectorXd shape = parseShapeAssignments(model, cmd.shape);
+  if (!cmd.measurements.empty()) {
+    progress.begin("fit shape to " + cmd.measurements);
+    std::ifstream in(cmd.measurements);
+    if (!in) throw IoError("cannot read measurements file " + cmd.measurements);
+    json j;
+    try {
+      j = json::parse(in);
+    } catch (const json::exception& e) {
+      throw FormatError(fmt::format("{} is not JSON: {}", cmd.measurements, e.what()));
+    }
+    MeasurementFitOptions fitOpt;
+    fitOpt.initial = shape;
+    shape = fitShapeToMeasurements(model, toTargets(measurementsFromJson(j)), fitOpt);
+    progress.end();
+  }
+  progress.begin("pose, measure, features");
+  BodyParams params{shape, resolvePose(model, shape, cmd.pose)};
+  const PosedBody posed = poseBody(model, params);
+  const BodyMeasurements measured = measureRestBody(model, shape);
+  const FeatureSet features = computeFeatures(model, shape);
+  progress.end();
+
+  const fs::path out = cmd.out;
+  fs::create_directories(out);
+  progress.begin("write outputs");
+  writeObj(out / "body.obj", posed.mesh);
+  json bj = bodyToJson(model, params, posed);
+  bj["measurements"] = toJson(measured);
+  writeJson(out / "body.json", bj);
+  writeJson(out / "features.json", featuresToJson(features, posed.mesh));
+  const Scene scene = featureScene(posed.mesh, features);
+  RenderOptions ro;
+  ro.views = {View::Front, View::Left, View::Back};
+  ro.captions = {"front", "left", "back"};
+  writePng(out / "body_features.png", renderScene(scene, ro));
+  progress.end();
+  fmt::print("{}: {} vertices, {} joints, {} shape parameters; height {:.3f} m, chest {:.1f} cm, "
+             "waist {:.1f} cm, hip {:.1f} cm\n",
+             model.source, model.numVertices(), model.numJoints(), model.numShapes(),
+             measured.height, 100 * measured.chestGirth, 100 * measured.waistGirth,
+             100 * measured.hipGirth);
+  fmt::print("wrote {}/: body.obj, body.json, features.json, body_features.png\n", out.string());
+  return 0;
+}
+
+// === demo: the main job on the built-in demo scan (until the pipeline exists: a mannequin
+// "scan" in garment colours, read back, cleaned, normalised, summarised and pictured).
 
 int runDemo(const fs::path& outDir, Progress& progress) {
   fs::create_directories(outDir);
-  progress.begin("generate demo scan");
-  const Scan demo = makeDemoScan();
+  progress.begin("generate demo scan (mannequin in A-pose)");
+  const BodyModel model = loadBodyModel("mannequin");
+  const Eigen::VectorXd shape = Eigen::VectorXd::Zero(model.numShapes());
+  const PosedBody posed =
+      poseBody(model, {shape, standardPose(model, shape, StandardPose::APose)});
+  const Scan demo = makeDemoScan(posed.mesh);
   const fs::path scanPath = outDir / "demo_scan.ply";
   writePly(scanPath, demo.mesh, colourAttributes(demo));
   progress.end();
@@ -207,13 +329,16 @@ int runDemo(const fs::path& outDir, Progress& progress) {
   writeMesh(outDir / "demo_normalized.glb", loaded.scan.mesh, colourAttributes(loaded.scan));
   writePng(outDir / "demo_preview.png",
            renderScan(loaded.scan, {View::Front, View::Left, View::Back}, 1024));
-  {
-    std::ofstream f(outDir / "info.json");
-    f << info.dump(2) << "\n";
-  }
+  writeJson(outDir / "info.json", info);
+  const FeatureSet features = computeFeatures(model, shape);
+  writePng(outDir / "body_features.png", [&] {
+    RenderOptions ro;
+    ro.views = {View::Front, View::Back};
+    return renderScene(featureScene(posed.mesh, features), ro);
+  }());
   progress.end();
-  fmt::print("\nwrote {}/: demo_scan.ply (input, mm, +Z up), demo_normalized.glb (metres, +Y up),"
-             " info.json, demo_preview.png\n",
+  fmt::print("\nwrote {}/: demo_scan.ply (input: mm, +Z up), demo_normalized.glb (metres, +Y up), "
+             "info.json, demo_preview.png, body_features.png\n",
              outDir.string());
   return 0;
 }
@@ -273,6 +398,22 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(64, 8192));
   addLoadOptions(preview, prevLoad);
 
+  // body
+  auto* body = app.add_subcommand(
+      "body", "Make a body: load a model, shape and pose it, measure it, find its feature points");
+  BodyCommand bodyCmd;
+  body->add_option("--model", bodyCmd.model, "mannequin | mpfb2:DIR | smpl:FILE.npz")
+      ->capture_default_str();
+  body->add_option("--shape", bodyCmd.shape,
+                   "Shape parameters as name=value,... (mannequin: height, chest, waist, hip, "
+                   "shoulder, arm, inseam, neck, thigh, upper_arm; +1 = +1 cm)");
+  body->add_option("--measurements", bodyCmd.measurements,
+                   "JSON of target measurements in metres (e.g. {\"chest_girth\": 1.0}); the "
+                   "shape is fitted to them");
+  body->add_option("--pose", bodyCmd.pose, "rest | apose | tpose | FILE.json (joint: axis-angle)")
+      ->capture_default_str();
+  body->add_option("-o,--output", bodyCmd.out, "Output folder")->capture_default_str();
+
   // demo
   auto* demo = app.add_subcommand("demo", "Run the main job on the built-in demo scan");
   std::string demoOut = "demo_out";
@@ -309,6 +450,8 @@ int main(int argc, char** argv) {
       writePng(prevOut, renderScan(s.scan, views, prevHeight));
       progress.end();
       progress.message("wrote " + prevOut);
+    } else if (*body) {
+      return runBody(bodyCmd, progress);
     } else if (*demo) {
       return runDemo(demoOut, progress);
     }

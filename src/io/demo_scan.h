@@ -1,14 +1,14 @@
 // The built-in demo scan used by `scan2pattern demo` until the synthetic clothed-scan
-// generator (src/synth) exists: a person-like solid of revolution with garment-coloured bands,
-// stored in millimetres with +Z up so that reading it exercises unit and axis detection.
+// generator (src/synth) exists: a body mesh coloured in garment-like bands (shoes, trousers,
+// a striped long-sleeve shirt, skin), stored in millimetres with +Z up so that reading it back
+// exercises unit and axis detection.
 #pragma once
 
 #include "io/scan.h"
 
 namespace s2p {
 
-// A closed, manifold figure `heightM` metres tall (≈ 2·rings·segments triangles) with per-vertex
-// colours: shoes, trousers, shirt, skin. Coordinates in millimetres, +Z up, facing −Y.
-Scan makeDemoScan(double heightM = 1.75, int rings = 160, int segments = 96);
+// `body`: a closed mesh in metres, +Y up, feet on y = 0 (e.g. the posed mannequin).
+Scan makeDemoScan(const TriMesh& body);
 
 }  // namespace s2p
