@@ -79,6 +79,11 @@ const char* toString(UpAxis up) {
 }
 
 namespace {
+
+// Heights accepted when the user forces the units (metres); detection uses 0.5–2.5 m.
+constexpr double kMinForcedHeight = 0.2;
+constexpr double kMaxForcedHeight = 3.0;
+
 std::string lower(std::string_view text) {
   std::string s(text);
   std::transform(s.begin(), s.end(), s.begin(),
@@ -252,6 +257,12 @@ NormalizeReport normalizeScan(Scan& scan, const NormalizeOptions& options) {
   report.units = units;
   report.scale = metresPerUnit(units);
   report.heightMetres = height * report.scale;
+  // Given units may stretch the range (a child, a doll-sized test scan), but not to absurdity.
+  if (report.heightMetres < kMinForcedHeight || report.heightMetres > kMaxForcedHeight)
+    throw InputError(fmt::format(
+        "{}: not a person: {:.3g} m tall in the units given ({}); a person is 0.5–2.5 m: check "
+        "--units",
+        what, report.heightMetres, toString(units)));
   if (report.heightMetres < 0.5 || report.heightMetres > 2.5)
     report.warnings.push_back(fmt::format("{}: height {:.3g} m is outside 0.5–2.5 m for a person",
                                           what, report.heightMetres));

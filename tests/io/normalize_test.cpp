@@ -48,13 +48,18 @@ TEST(NormalizeScan, SymmetricShapeIsAmbiguousAndPrefersPositiveAxis) {
 
 TEST(NormalizeScan, ForcedUnitsAndAxis) {
   Scan scan = scanOf(makeCylinder(2, 8, 0.2, 1.7));
-  scan.mesh.V *= 100.0;
+  scan.mesh.V *= 200.0;
+  Scan tooSmall = scan;
   const NormalizeReport r = normalizeScan(scan, {.units = Units::Millimetres, .up = UpAxis::NegY});
   EXPECT_FALSE(r.unitsDetected);
   EXPECT_FALSE(r.upDetected);
   EXPECT_EQ(r.up, UpAxis::NegY);
-  EXPECT_NEAR(r.heightMetres, 0.17, 1e-12);
-  EXPECT_FALSE(r.warnings.empty());  // 0.17 m is no standing person
+  EXPECT_NEAR(r.heightMetres, 0.34, 1e-12);
+  EXPECT_FALSE(r.warnings.empty());  // 0.34 m is no standing person: accepted with a warning
+  // Forced units do not make a 17 cm object a person.
+  tooSmall.mesh.V *= 0.5;
+  EXPECT_THROW(normalizeScan(tooSmall, {.units = Units::Millimetres, .up = UpAxis::NegY}),
+               InputError);
 }
 
 TEST(NormalizeScan, DetectsUpAxisOfPersonInFourOrientations) {
