@@ -1,6 +1,7 @@
 #include "body/features.h"
 
 #include <algorithm>
+#include <initializer_list>
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
@@ -161,6 +162,23 @@ const Side kSides[2] = {
     {"right", -1, C::RightClavicle, C::RightShoulder, C::RightElbow, C::RightWrist,
      C::RightHandTip, C::RightHip, C::RightKnee, C::RightAnkle, C::RightToeTip, C::RightHeel}};
 
+// A place on a bone: fraction t of the way from joint a to joint b.
+struct BonePlace {
+  C a, b;
+  double t;
+};
+
+// Front (+) / back (−) sign pairs on the limb sections at the given places (§6.1.1).
+void addLimbPairs(const Rules& r, CurveFeatures& f, const Side& s, const char* limb,
+                  std::initializer_list<BonePlace> places) {
+  for (const BonePlace& p : places) {
+    const Vec3 bone = r.at(p.b) - r.at(p.a);
+    addFrontBackPair(r, f, fmt::format("{}_{}_{}_{:.2f}", s.name, limb, toString(p.a), p.t),
+                     r.boneLoop(p.a, p.b, p.t, fmt::format("{} {}", s.name, limb)),
+                     orthogonalTo(kFront, bone));
+  }
+}
+
 // Rule parameters (fractions along bones), named once here.
 constexpr double kNeckLoopT = 0.3;     // neck → head: lower neck, where a collar sits
 constexpr double kAnkleLoopT = 0.12;   // ankle → knee: just above the ankle bone
@@ -268,8 +286,6 @@ void regionFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
 }
 
 void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
-  const Vec3 spine = r.at(C::Neck) - r.at(C::Pelvis);
-
   // Upper side seams (Fig. 11, first): along the underside of each arm from the wrist to the
   // armpit, then down the side of the torso. 13 front (+) / 13 back (−) paired sign points.
   CurveFeatures upper{"upper_side", {}, {}};
@@ -295,15 +311,10 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   }
   for (double t : {0.15, 0.3, 0.45, 0.6, 0.7})
     addFrontBackPair(r, upper, fmt::format("torso_{:.2f}", t), r.torsoLoop(t, "torso"), kFront);
-  for (const Side& s : kSides) {
-    for (auto [a, b, t] : {std::tuple{s.shoulder, s.elbow, 0.35}, std::tuple{s.shoulder, s.elbow, 0.7},
-                           std::tuple{s.elbow, s.wrist, 0.3}, std::tuple{s.elbow, s.wrist, 0.7}}) {
-      const Vec3 bone = r.at(b) - r.at(a);
-      addFrontBackPair(r, upper, fmt::format("{}_arm_{}_{:.2f}", s.name, toString(a), t),
-                       r.boneLoop(a, b, t, fmt::format("{} arm", s.name)),
-                       orthogonalTo(kFront, bone));
-    }
-  }
+  for (const Side& s : kSides)
+    addLimbPairs(r, upper, s, "arm",
+                 {{s.shoulder, s.elbow, 0.35}, {s.shoulder, s.elbow, 0.7}, {s.elbow, s.wrist, 0.3},
+                  {s.elbow, s.wrist, 0.7}});
   fs.seams.push_back(std::move(upper));
 
   // Shoulder (armhole) seams: a closed loop around each arm root, in the plane halfway between
@@ -345,13 +356,9 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     lower.splines.push_back(openSpline(r, fmt::format("{}_inner_leg", s.name), inner));
   }
   for (const Side& s : kSides)
-    for (auto [a, b, t] : {std::tuple{s.ankle, s.knee, 0.3}, std::tuple{s.ankle, s.knee, 0.7},
-                           std::tuple{s.knee, s.hip, 0.3}, std::tuple{s.knee, s.hip, 0.6}}) {
-      const Vec3 bone = r.at(b) - r.at(a);
-      addFrontBackPair(r, lower, fmt::format("{}_leg_{}_{:.2f}", s.name, toString(a), t),
-                       r.boneLoop(a, b, t, fmt::format("{} leg", s.name)),
-                       orthogonalTo(kFront, bone));
-    }
+    addLimbPairs(r, lower, s, "leg",
+                 {{s.ankle, s.knee, 0.3}, {s.ankle, s.knee, 0.7}, {s.knee, s.hip, 0.3},
+                  {s.knee, s.hip, 0.6}});
   for (double t : {kHipT, 0.12, kWaistT})
     addFrontBackPair(r, lower, fmt::format("hip_{:.2f}", t), r.torsoLoop(t, "hip"), kFront);
   fs.seams.push_back(std::move(lower));
@@ -385,8 +392,6 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     if (path.size() < 3)
       throw InputError("feature rules: no crotch below the waist on the body midline");
     // 7 anchors equally spaced by arc length.
-    SectionLoop open{Eigen::MatrixX3d(static_cast<int>(path.size()), 3), false};
-    for (size_t i = 0; i < path.size(); ++i) open.points.row(i) = path[i].transpose();
     std::vector<double> cum(path.size(), 0.0);
     for (size_t i = 1; i < path.size(); ++i) cum[i] = cum[i - 1] + (path[i] - path[i - 1]).norm();
     std::vector<Vec3> anchors;
@@ -415,7 +420,6 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     crotch.signs.push_back({fmt::format("thigh_{:.2f}_right", t), r.surface(pr), -1, i});
   }
   fs.seams.push_back(std::move(crotch));
-  (void)spine;
 }
 
 nlohmann::json pointJson(const SurfacePoint& p, const TriMesh& mesh) {

@@ -1,5 +1,8 @@
 #include "io/read_scan.h"
 
+#include "core/colour.h"
+#include "io/files.h"
+
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
@@ -200,7 +203,7 @@ class SceneReader {
         Eigen::Vector3d rgb(c.r, c.g, c.b);
         for (int k = 0; k < 3; ++k) {
           if (!std::isfinite(rgb[k])) rgb[k] = 0;
-          rgb[k] = linearColours_ ? linearToSrgb(rgb[k]) : std::clamp(rgb[k], 0.0, 1.0);
+          rgb[k] = linearColours_ ? linearToSrgb(std::clamp(rgb[k], 0.0, 1.0)) : std::clamp(rgb[k], 0.0, 1.0);
         }
         b.colour.push_back(rgb);
         b.hasColour.push_back(1);
@@ -349,13 +352,6 @@ Scan readWithAssimp(const fs::path& path, const std::string& ext, const ReadOpti
     scan.texture = std::move(tex);
   }
   return scan;
-}
-
-std::string lowerExtension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
 }
 
 }  // namespace

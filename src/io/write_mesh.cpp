@@ -1,5 +1,8 @@
 #include "io/write_mesh.h"
 
+#include "core/colour.h"
+#include "io/files.h"
+
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -50,16 +53,6 @@ void writeFileAtomically(const fs::path& path, const std::string& bytes) {
   }
 }
 
-double srgbToLinear(double c) {
-  c = std::clamp(c, 0.0, 1.0);
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-
-double linearToSrgb(double c) {
-  c = std::clamp(c, 0.0, 1.0);
-  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-}
-
 namespace {
 
 template <typename T>
@@ -108,13 +101,6 @@ std::vector<int> facesByGroup(const TriMesh& mesh, const MeshAttributes& attrs) 
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return (*attrs.faceGroups)(a) < (*attrs.faceGroups)(b); });
   return order;
-}
-
-std::string lowerExtension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
 }
 
 }  // namespace
@@ -243,7 +229,7 @@ void writeGlb(const fs::path& path, const TriMesh& mesh, const MeshAttributes& a
     const std::size_t offset = bin.size();
     for (int v = 0; v < nv; ++v)
       for (int k = 0; k < 3; ++k)
-        put<float>(bin, static_cast<float>(srgbToLinear((*attrs.colour)(v, k))));
+        put<float>(bin, static_cast<float>(srgbToLinear(std::clamp((*attrs.colour)(v, k), 0.0, 1.0))));
     bufferViews.push_back({{"buffer", 0},
                            {"byteOffset", offset},
                            {"byteLength", bin.size() - offset},

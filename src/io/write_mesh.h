@@ -44,8 +44,4 @@ void writeObjTextured(const std::filesystem::path& path, const TriMesh& mesh,
 // Throws IoError (naming the path) when the folder is not writable.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
 
-// sRGB ↔ linear transfer functions (IEC 61966-2-1) on one channel in [0, 1].
-double srgbToLinear(double c);
-double linearToSrgb(double c);
-
 }  // namespace s2p
