@@ -105,7 +105,8 @@ TEST(Cli, BadInputsGetTheirExitCodes) {
   // 4: empty, garbage, truncated, unknown format.
   test::writeFile(dir / "empty.ply", "");
   EXPECT_EQ(run("info " + q(dir / "empty.ply")).code, 4);
-  test::writeFile(dir / "garbage.obj", std::string("\x7f\x01\x02 not an obj \xff\xfe", 20));
+  const char garbage[] = "\x7f\x01\x02 not an obj \xff\xfe";
+  test::writeFile(dir / "garbage.obj", std::string(garbage, sizeof garbage - 1));
   EXPECT_EQ(run("info " + q(dir / "garbage.obj")).code, 4);
   const std::string good = test::readFile(dir / "person.ply");
   test::writeFile(dir / "truncated.ply", good.substr(0, good.size() / 2));
