@@ -1,45 +1,18 @@
-// The BodyModel contract, checked on every source that needs no user file: the built-in
-// mannequin and (when ../shared is present) the MPFB2 body. SMPL .npz files are checked on a
-// synthetic model in smpl_model_test.cpp.
+// The BodyModel contract, checked on every source (body_test_sources.h): the built-in mannequin,
+// an SMPL-format model read through the SMPL loader, and the MPFB2 body when ../shared is
+// present.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <filesystem>
-#include <memory>
 #include <random>
 
-#include "body/mannequin.h"
 #include "body/measurements.h"
-#include "body/mpfb2_model.h"
 #include "body/posing.h"
 #include "core/mesh_topology.h"
-#include "test_support.h"
+#include "body_test_sources.h"
 
 namespace s2p {
 namespace {
 
-struct Source {
-  std::string name;
-  std::shared_ptr<BodyModel> model;
-};
-
-const std::vector<Source>& sources() {
-  static const std::vector<Source> cached = [] {
-    std::vector<Source> s;
-    MannequinOptions opt;
-    opt.targetVertices = 8000;
-    s.push_back({"mannequin", std::make_shared<BodyModel>(makeMannequin(opt))});
-    std::filesystem::path dir;
-    if (const char* env = std::getenv("S2P_MPFB2_DIR")) dir = env;
-    else if (!test::sharedDir().empty()) dir = test::sharedDir() / "bodymodels" / "mpfb2";
-    if (!dir.empty() && std::filesystem::exists(dir / "3dobjs" / "base.obj"))
-      s.push_back({"mpfb2", std::make_shared<BodyModel>(loadMpfb2(dir))});
-    else
-      std::printf("[ note ] MPFB2 body not found (../shared/bodymodels/mpfb2): mannequin only\n");
-    return s;
-  }();
-  return cached;
-}
 
 BodyParams randomParams(const BodyModel& model, unsigned seed) {
   std::mt19937 rng(seed);
@@ -53,7 +26,7 @@ BodyParams randomParams(const BodyModel& model, unsigned seed) {
 }
 
 TEST(BodySources, ValidClosedManifoldTemplateWithNormalisedWeights_Slow) {
-  for (const Source& src : sources()) {
+  for (const auto& src : test::bodySources()) {
     SCOPED_TRACE(src.name);
     const BodyModel& m = *src.model;
     EXPECT_NO_THROW(m.validate());
@@ -72,7 +45,7 @@ TEST(BodySources, ValidClosedManifoldTemplateWithNormalisedWeights_Slow) {
 }
 
 TEST(BodySources, ZeroPoseReproducesTheTemplateExactly_Slow) {
-  for (const Source& src : sources()) {
+  for (const auto& src : test::bodySources()) {
     SCOPED_TRACE(src.name);
     const BodyModel& m = *src.model;
     const PosedBody body = poseBody(m, {Eigen::VectorXd::Zero(m.numShapes()), BodyPose::zero(m.numJoints())});
@@ -82,7 +55,7 @@ TEST(BodySources, ZeroPoseReproducesTheTemplateExactly_Slow) {
 }
 
 TEST(BodySources, ShoulderRotationMovesTheElbowAboutTheShoulder_Slow) {
-  for (const Source& src : sources()) {
+  for (const auto& src : test::bodySources()) {
     SCOPED_TRACE(src.name);
     const BodyModel& m = *src.model;
     const int shoulder = m.canonical[static_cast<int>(Canonical::LeftShoulder)].joint;
@@ -104,7 +77,7 @@ TEST(BodySources, ShoulderRotationMovesTheElbowAboutTheShoulder_Slow) {
 }
 
 TEST(BodySources, JacobiansMatchCentralDifferences_Slow) {
-  for (const Source& src : sources()) {
+  for (const auto& src : test::bodySources()) {
     SCOPED_TRACE(src.name);
     const BodyModel& m = *src.model;
     const BodyParams p = randomParams(m, 7);
@@ -137,7 +110,7 @@ TEST(BodySources, JacobiansMatchCentralDifferences_Slow) {
 }
 
 TEST(BodySources, UnposingInvertsPosing_Slow) {
-  for (const Source& src : sources()) {
+  for (const auto& src : test::bodySources()) {
     SCOPED_TRACE(src.name);
     const BodyModel& m = *src.model;
     const BodyParams p = randomParams(m, 11);
@@ -150,7 +123,7 @@ TEST(BodySources, UnposingInvertsPosing_Slow) {
 TEST(BodySources, MannequinFitsRequestedMeasurementsWithinOneCentimetre_Slow) {
   // The acceptance: request a set of tailor measurements, fit the shape, measure the
   // fitted body with the tape-measure code (measurements.h), read them back within 1 cm.
-  const BodyModel& m = *sources().front().model;
+  const BodyModel& m = *test::bodySources().front().model;
   MeasurementTargets targets;
   targets.values = {{"height", 1.82}, {"chest_girth", 1.02}, {"waist_girth", 0.90},
                     {"hip_girth", 1.04}, {"thigh_girth", 0.60}, {"neck_girth", 0.40}};

@@ -5,15 +5,11 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "body/mannequin.h"
-#include "body/mpfb2_model.h"
 #include "body/posing.h"
-#include "test_support.h"
+#include "body_test_sources.h"
 
 namespace s2p {
 namespace {
@@ -68,35 +64,10 @@ const SignPoint& sign(const CurveFeatures& c, const std::string& name) {
   throw std::runtime_error("no sign point " + name);
 }
 
-// === Sources
-
-struct Source {
-  std::string name;
-  std::shared_ptr<BodyModel> model;
-};
-
-std::vector<Source> sources() {
-  static std::vector<Source> cached = [] {
-    std::vector<Source> s;
-    MannequinOptions opt;
-    opt.targetVertices = 8000;
-    s.push_back({"mannequin", std::make_shared<BodyModel>(makeMannequin(opt))});
-    std::filesystem::path dir;
-    if (const char* env = std::getenv("S2P_MPFB2_DIR")) dir = env;
-    else if (!test::sharedDir().empty()) dir = test::sharedDir() / "bodymodels" / "mpfb2";
-    if (!dir.empty() && std::filesystem::exists(dir / "3dobjs" / "base.obj"))
-      s.push_back({"mpfb2", std::make_shared<BodyModel>(loadMpfb2(dir))});
-    else
-      std::printf("[ note ] MPFB2 body not found (../shared/bodymodels/mpfb2): only the mannequin is checked\n");
-    return s;
-  }();
-  return cached;
-}
-
 class FeatureRules : public ::testing::TestWithParam<StandardPose> {};
 
 TEST_P(FeatureRules, LoopsRingTheirBonesAndSignsLieOnTheirSides_Slow) {
-  for (const Source& src : sources()) {
+  for (const auto& src : test::bodySources()) {
     SCOPED_TRACE(src.name);
     const BodyModel& model = *src.model;
     const Eigen::VectorXd shape = Eigen::VectorXd::Zero(model.numShapes());
@@ -234,7 +205,7 @@ INSTANTIATE_TEST_SUITE_P(Poses, FeatureRules,
                          });
 
 TEST(FeatureSet, JsonRoundTripKeepsEveryPoint_Slow) {
-  const BodyModel& model = *sources().front().model;
+  const BodyModel& model = *test::bodySources().front().model;
   const Eigen::VectorXd shape = Eigen::VectorXd::Zero(model.numShapes());
   const FeatureSet fs = computeFeatures(model, shape);
   const nlohmann::json j = featuresToJson(fs, model.rest);
@@ -247,7 +218,7 @@ TEST(FeatureSet, JsonRoundTripKeepsEveryPoint_Slow) {
 TEST(FeatureSet, ShapeMovesTheFeaturesWithTheBody_Slow) {
   // Features are surface points on the same faces whatever the shape: a taller body carries
   // its neck loop up by about the change in neck height.
-  const BodyModel& model = *sources().front().model;
+  const BodyModel& model = *test::bodySources().front().model;
   Eigen::VectorXd shape = Eigen::VectorXd::Zero(model.numShapes());
   const FeatureSet base = computeFeatures(model, shape);
   shape(0) = 5;  // mannequin: height +5 cm
