@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/surface_point.h"
 #include "core/winding_number.h"
 
 namespace s2p {
@@ -39,60 +40,11 @@ struct PointOnTriangle {
   Eigen::Vector3d point;
 };
 
-// Closest point on segment [a, b] to p, as the weight s of b (point = (1−s) a + s b).
-double closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                        const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (!(len2 > 0)) return 0.0;
-  return std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-}
-
-// Exact closest point on triangle (a, b, c) to p by Voronoi regions (Ericson, Real-Time
-// Collision Detection §5.1.5); degenerate triangles fall back to their three edges.
+// Exact closest point on triangle (a, b, c) to p (surface_point.h; robust to degenerate faces).
 PointOnTriangle closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                   const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  auto make = [&](double u, double v, double w) {
-    return PointOnTriangle{Eigen::Vector3d(u, v, w), u * a + v * b + w * c};
-  };
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return make(1, 0, 0);
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return make(0, 1, 0);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0) {
-    const double v = d1 / (d1 - d3);
-    return make(1 - v, v, 0);
-  }
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return make(0, 0, 1);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 - d6 > 0) {
-    const double w = d2 / (d2 - d6);
-    return make(1 - w, 0, w);
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0 && (d4 - d3) + (d5 - d6) > 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return make(0, 1 - w, w);
-  }
-  const double denom = va + vb + vc;
-  if (denom > 0 && va >= 0 && vb >= 0 && vc >= 0) {
-    const double v = vb / denom, w = vc / denom;
-    return make(1 - v - w, v, w);
-  }
-  // Degenerate (zero-area) triangle: the best of its three edges.
-  const double sab = closestOnSegment(p, a, b), sbc = closestOnSegment(p, b, c),
-               sca = closestOnSegment(p, c, a);
-  const PointOnTriangle cand[3] = {make(1 - sab, sab, 0), make(0, 1 - sbc, sbc),
-                                   make(sca, 0, 1 - sca)};
-  int best = 0;
-  for (int k = 1; k < 3; ++k)
-    if ((cand[k].point - p).squaredNorm() < (cand[best].point - p).squaredNorm()) best = k;
-  return cand[best];
+  const Eigen::Vector3d bary = closestPointBarycentric(p, a, b, c);
+  return {bary, bary.x() * a + bary.y() * b + bary.z() * c};
 }
 
 // Rounds x up to the next float (a query radius must never be smaller than the double one).
