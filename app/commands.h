@@ -1,0 +1,65 @@
+// The command line's building blocks: every subcommand lives in its own cmd_<name>.cpp and
+// registers itself through one add*Command function listed here; main.cpp only builds the
+// top-level parser, dispatches and maps errors to exit codes.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "body/features.h"
+#include "core/progress.h"
+#include "export/preview.h"
+#include "io/cleanup.h"
+#include "io/normalize.h"
+#include "io/read_scan.h"
+#include "io/write_mesh.h"
+
+namespace s2p::app {
+
+// A registered subcommand: its parser and what to run when it was chosen (returns the exit code).
+struct Command {
+  CLI::App* cli = nullptr;
+  std::function<int(Progress&)> run;
+};
+using Commands = std::vector<Command>;
+
+void addScanCommands(CLI::App& app, Commands& out);  // info, convert, preview
+void addBodyCommand(CLI::App& app, Commands& out);   // body
+void addDemoCommand(CLI::App& app, Commands& out);   // demo
+
+// === Shared: read + clean + normalise, as every command that takes a SCAN does.
+
+struct LoadedScan {
+  Scan scan;
+  ReadReport read;
+  CleanupReport cleanup;
+  NormalizeReport normalize;
+  double normalizeSeconds = 0;
+};
+
+struct LoadOptions {
+  std::string units = "auto";
+  std::string up = "auto";
+};
+
+void addLoadOptions(CLI::App* cmd, LoadOptions& opt);
+LoadedScan loadScan(const std::filesystem::path& path, const LoadOptions& opt, Progress& progress);
+
+// The `info` summary of a loaded scan, and its human-readable form.
+nlohmann::json infoJson(const LoadedScan& s);
+void printInfo(const nlohmann::json& j);
+
+// "front,back" → views; CLI::ValidationError naming `option` on an unknown name.
+std::vector<View> parseViews(const std::string& list, const std::string& option = "--views");
+Image renderScan(const Scan& scan, const std::vector<View>& views, int heightPx);
+MeshAttributes colourAttributes(const Scan& scan);
+void writeJson(const std::filesystem::path& path, const nlohmann::json& j);
+
+// Feature splines, sign points and region points drawn over a body (paper Fig. 4 and Fig. 11).
+Scene featureScene(const TriMesh& mesh, const FeatureSet& fs);
+
+}  // namespace s2p::app
