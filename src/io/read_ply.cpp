@@ -256,7 +256,7 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
   PlyData out;
   Cursor cur(bytes, bodyStart, enc, what);
   std::vector<int> tris;  // flat #F·3
-  std::vector<int> groups;
+  std::vector<int> groups, faceLabels;
   bool haveVertex = false;
   int skippedPolygons = 0;
   for (const Element& e : elements) {
@@ -311,10 +311,11 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
       if (ii < 0 || !e.properties[ii].isList)
         throw FormatError(fmt::format("{}: the PLY face element has no vertex_indices list", what));
       const int ig = findProperty(e, {"group"});
+      const int il = findProperty(e, {"label"});
       tris.reserve(static_cast<std::size_t>(std::min<std::int64_t>(e.count, 1 << 26)) * 3);
       std::vector<int> poly;
       for (std::int64_t f = 0; f < e.count; ++f) {
-        int group = 0;
+        int group = 0, label = 0;
         poly.clear();
         for (std::size_t i = 0; i < e.properties.size(); ++i) {
           const Property& p = e.properties[i];
@@ -332,8 +333,9 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
             }
           } else {
             const double x = cur.read(p.type);
-            if (static_cast<int>(i) == ig && std::isfinite(x) && std::abs(x) < 2.2e9)
-              group = static_cast<int>(x);
+            const bool integral = std::isfinite(x) && std::abs(x) < 2.2e9;
+            if (static_cast<int>(i) == ig && integral) group = static_cast<int>(x);
+            if (static_cast<int>(i) == il && integral) label = static_cast<int>(x);
           }
         }
         if (poly.size() < 3) {
@@ -343,6 +345,7 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
         for (std::size_t k = 1; k + 1 < poly.size(); ++k) {  // fan triangulation
           tris.insert(tris.end(), {poly[0], poly[k], poly[k + 1]});
           if (ig >= 0) groups.push_back(group);
+          if (il >= 0) faceLabels.push_back(label);
         }
       }
     } else if (!e.properties.empty()) {
@@ -373,6 +376,9 @@ PlyData parsePly(const std::string& bytes, const std::string& what) {
   if (!groups.empty())
     out.faceGroup =
         Eigen::Map<Eigen::VectorXi>(groups.data(), static_cast<Eigen::Index>(groups.size()));
+  if (!faceLabels.empty())
+    out.faceLabels = Eigen::Map<Eigen::VectorXi>(faceLabels.data(),
+                                                 static_cast<Eigen::Index>(faceLabels.size()));
   if (skippedPolygons > 0)
     out.warnings.push_back(
         fmt::format("{}: {} faces with fewer than 3 vertices skipped", what, skippedPolygons));

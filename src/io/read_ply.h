@@ -1,5 +1,5 @@
 // A PLY reader of our own (ASCII, binary little- and big-endian): keeps the file's vertex
-// order, reads per-vertex colours and integer labels, checks counts against the file size
+// order, reads per-vertex colours and integer labels (per vertex and per face), checks counts against the file size
 // before allocating, and never trusts the header.
 #pragma once
 
@@ -16,6 +16,7 @@ struct PlyData {
   TriMesh mesh;               // polygons fan-triangulated, in file order
   Eigen::MatrixX3d colour;    // #V×3 sRGB in [0, 1]; 0 rows without red/green/blue
   Eigen::VectorXi labels;     // #V from an integer "label" property; empty when absent
+  Eigen::VectorXi faceLabels; // #F from a face "label" property (per triangle); empty if absent
   Eigen::VectorXi faceGroup;  // #F from a face "group" property (per triangle); empty if absent
   std::vector<std::string> warnings;
 };

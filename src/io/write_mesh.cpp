@@ -75,6 +75,9 @@ void checkAttributes(const fs::path& path, const TriMesh& mesh, const MeshAttrib
   if (attrs.vertexLabels && attrs.vertexLabels->size() != nv)
     throw InputError(fmt::format("{}: {} vertex labels for {} vertices", path.string(),
                                  attrs.vertexLabels->size(), nv));
+  if (attrs.faceLabels && attrs.faceLabels->size() != nf)
+    throw InputError(fmt::format("{}: {} face labels for {} faces", path.string(),
+                                 attrs.faceLabels->size(), nf));
   if (attrs.faceGroups && attrs.faceGroups->size() != nf)
     throw InputError(fmt::format("{}: {} face groups for {} faces", path.string(),
                                  attrs.faceGroups->size(), nf));
@@ -117,10 +120,11 @@ void writePly(const fs::path& path, const TriMesh& mesh, const MeshAttributes& a
   if (attrs.vertexLabels) out += "property int label\n";
   out += fmt::format("element face {}\n", mesh.numFaces());
   out += "property list uchar int vertex_indices\n";
+  if (attrs.faceLabels) out += "property int label\n";
   if (attrs.faceGroups) out += "property int group\n";
   out += "end_header\n";
   const std::size_t vsize = 24 + (attrs.colour ? 3 : 0) + (attrs.vertexLabels ? 4 : 0);
-  const std::size_t fsize = 13 + (attrs.faceGroups ? 4 : 0);
+  const std::size_t fsize = 13 + (attrs.faceLabels ? 4 : 0) + (attrs.faceGroups ? 4 : 0);
   out.reserve(out.size() + vsize * mesh.numVertices() + fsize * mesh.numFaces());
   for (int v = 0; v < mesh.numVertices(); ++v) {
     for (int k = 0; k < 3; ++k) put<double>(out, mesh.V(v, k));
@@ -131,6 +135,7 @@ void writePly(const fs::path& path, const TriMesh& mesh, const MeshAttributes& a
   for (int f = 0; f < mesh.numFaces(); ++f) {
     put<std::uint8_t>(out, 3);
     for (int k = 0; k < 3; ++k) put<std::int32_t>(out, mesh.F(f, k));
+    if (attrs.faceLabels) put<std::int32_t>(out, (*attrs.faceLabels)(f));
     if (attrs.faceGroups) put<std::int32_t>(out, (*attrs.faceGroups)(f));
   }
   writeFileAtomically(path, out);

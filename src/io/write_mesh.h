@@ -17,12 +17,13 @@ namespace s2p {
 struct MeshAttributes {
   const Eigen::MatrixX3d* colour = nullptr;              // #V×3 sRGB in [0, 1]
   const Eigen::VectorXi* vertexLabels = nullptr;         // #V, written to PLY "label"
+  const Eigen::VectorXi* faceLabels = nullptr;           // #F, written to PLY face "label"
   const Eigen::VectorXi* faceGroups = nullptr;           // #F group ids in [0, #groups)
   const std::vector<std::string>* groupNames = nullptr;  // name of each group id
 };
 
 // Binary little-endian PLY: double x y z, uchar red green blue, int label; faces as
-// "list uchar int vertex_indices" plus int "group" when faceGroups is given.
+// "list uchar int vertex_indices" plus int "label" / int "group" when given.
 void writePly(const std::filesystem::path& path, const TriMesh& mesh,
               const MeshAttributes& attrs = {});
 // Wavefront OBJ: "v x y z [r g b]", faces grouped by "g name" (faces sorted stably by group).

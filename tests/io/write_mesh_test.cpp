@@ -46,8 +46,12 @@ int nearest(const Eigen::MatrixX3d& V, const Eigen::RowVector3d& p) {
 TEST(WritePly, BinaryRoundTripKeepsVerticesColoursLabels) {
   TempDir dir;
   const Sample s;
-  writePly(dir / "a.ply", s.mesh, {.colour = &s.colour, .vertexLabels = &s.labels});
+  Eigen::VectorXi faceLabels(s.mesh.numFaces());
+  for (int f = 0; f < s.mesh.numFaces(); ++f) faceLabels(f) = (f * 7) % 6;
+  writePly(dir / "a.ply", s.mesh,
+           {.colour = &s.colour, .vertexLabels = &s.labels, .faceLabels = &faceLabels});
   const PlyData back = readPly(dir / "a.ply");
+  EXPECT_EQ(back.faceLabels, faceLabels);
   ASSERT_EQ(back.mesh.numVertices(), s.mesh.numVertices());
   EXPECT_EQ(back.mesh.F, s.mesh.F);
   EXPECT_LT((back.mesh.V - s.mesh.V).cwiseAbs().maxCoeff(), 1e-6);
