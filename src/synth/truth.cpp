@@ -1,6 +1,7 @@
 #include "synth/truth.h"
 
 #include <array>
+#include <utility>
 #include <fmt/format.h>
 
 #include "core/error.h"
@@ -99,6 +100,51 @@ bool Truth::hasOnePiece() const {
   return false;
 }
 
+nlohmann::json boundariesToJson(const std::vector<TrueBoundary>& boundaries) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const TrueBoundary& b : boundaries) {
+    nlohmann::json curves = nlohmann::json::array();
+    for (std::size_t c = 0; c < b.curves.size(); ++c)
+      curves.push_back({{"closed", c < b.closed.size() && b.closed[c]},
+                        {"points", curveToJson(b.curves[c])}});
+    out.push_back({{"labels", {toString(b.a), toString(b.b)}},
+                   {"length_m", b.length()},
+                   {"curves", curves}});
+  }
+  return out;
+}
+
+std::vector<TrueBoundary> boundariesFromJson(const nlohmann::json& boundaries,
+                                             const std::string& what) {
+  const Reader r{what};
+  if (!boundaries.is_array()) throw FormatError(what + ": \"boundaries\" is not a list");
+  std::vector<TrueBoundary> out;
+  for (std::size_t i = 0; i < boundaries.size(); ++i) {
+    const std::string ctx = fmt::format("boundary {}", i);
+    const auto& b = boundaries[i];
+    const auto& labels = r.at(b, "labels", ctx);
+    if (!labels.is_array() || labels.size() != 2)
+      throw FormatError(fmt::format("{}: \"labels\" of {} is not a pair", what, ctx));
+    TrueBoundary tb;
+    tb.a = r.label(labels[0], ctx);
+    tb.b = r.label(labels[1], ctx);
+    if (tb.a == tb.b)
+      throw FormatError(fmt::format("{}: {} separates \"{}\" from itself", what, ctx,
+                                    toString(tb.a)));
+    if (tb.b < tb.a) std::swap(tb.a, tb.b);
+    const auto& curves = r.at(b, "curves", ctx);
+    if (!curves.is_array())
+      throw FormatError(fmt::format("{}: curves of {} is not a list", what, ctx));
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+      const std::string cctx = fmt::format("curve {} of {}", c, ctx);
+      tb.curves.push_back(r.curve(r.at(curves[c], "points", cctx), cctx));
+      tb.closed.push_back(r.get<bool>(curves[c], "closed", cctx));
+    }
+    out.push_back(std::move(tb));
+  }
+  return out;
+}
+
 nlohmann::json truthToJson(const Truth& t) {
   nlohmann::json j;
   j["preset"] = t.preset;
@@ -119,17 +165,7 @@ nlohmann::json truthToJson(const Truth& t) {
                         {"visible_area_m2", g.visibleArea}});
   j["garments"] = garments;
   j["body"] = t.body;
-  nlohmann::json boundaries = nlohmann::json::array();
-  for (const TrueBoundary& b : t.boundaries) {
-    nlohmann::json curves = nlohmann::json::array();
-    for (std::size_t c = 0; c < b.curves.size(); ++c)
-      curves.push_back({{"closed", c < b.closed.size() && b.closed[c]},
-                        {"points", curveToJson(b.curves[c])}});
-    boundaries.push_back({{"labels", {toString(b.a), toString(b.b)}},
-                          {"length_m", b.length()},
-                          {"curves", curves}});
-  }
-  j["boundaries"] = boundaries;
+  j["boundaries"] = boundariesToJson(t.boundaries);
   j["generator"] = t.generator;
   return j;
 }
@@ -157,26 +193,7 @@ Truth truthFromJson(const nlohmann::json& j, const std::string& what) {
     t.garments.push_back(std::move(tg));
   }
   t.body = r.at(j, "body", "the file");
-  const auto& boundaries = r.at(j, "boundaries", "the file");
-  if (!boundaries.is_array()) throw FormatError(what + ": \"boundaries\" is not a list");
-  for (std::size_t i = 0; i < boundaries.size(); ++i) {
-    const std::string ctx = fmt::format("boundary {}", i);
-    const auto& b = boundaries[i];
-    const auto& labels = r.at(b, "labels", ctx);
-    if (!labels.is_array() || labels.size() != 2)
-      throw FormatError(fmt::format("{}: \"labels\" of {} is not a pair", what, ctx));
-    TrueBoundary tb;
-    tb.a = r.label(labels[0], ctx);
-    tb.b = r.label(labels[1], ctx);
-    const auto& curves = r.at(b, "curves", ctx);
-    if (!curves.is_array()) throw FormatError(fmt::format("{}: curves of {} is not a list", what, ctx));
-    for (std::size_t c = 0; c < curves.size(); ++c) {
-      const std::string cctx = fmt::format("curve {} of {}", c, ctx);
-      tb.curves.push_back(r.curve(r.at(curves[c], "points", cctx), cctx));
-      tb.closed.push_back(r.get<bool>(curves[c], "closed", cctx));
-    }
-    t.boundaries.push_back(std::move(tb));
-  }
+  t.boundaries = boundariesFromJson(r.at(j, "boundaries", "the file"), what);
   if (j.contains("generator")) t.generator = j.at("generator");
   return t;
 }

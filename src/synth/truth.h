@@ -60,6 +60,14 @@ struct Truth {
   bool hasOnePiece() const;
 };
 
+// The "boundaries" array of truth.json (also the format of a segmentation's boundaries.json):
+// [{"labels": [a, b], "length_m", "curves": [{"closed", "points": [[x, y, z], ...]}]}].
+nlohmann::json boundariesToJson(const std::vector<TrueBoundary>& boundaries);
+// Inverse of boundariesToJson; a malformed entry → FormatError naming `what` and the entry.
+// Labels are stored with a < b whatever their order in the file.
+std::vector<TrueBoundary> boundariesFromJson(const nlohmann::json& j,
+                                             const std::string& what = "boundaries");
+
 nlohmann::json truthToJson(const Truth& truth);
 // Malformed or missing entries → FormatError naming `what` and the entry.
 Truth truthFromJson(const nlohmann::json& j, const std::string& what = "truth.json");
