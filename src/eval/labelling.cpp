@@ -132,29 +132,31 @@ LabelTransfer transferLabels(const LabelledMesh& truth, const LabelledMesh& pred
     return out;
   }
 
-  // Predicted samples → truth faces (§ exact cuts: each cut face lies inside one scan face).
+  // Predicted samples → truth faces (exact cuts: each cut face lies inside one scan face).
+  // Face centroids first, so a prediction far from the truth is refused after #F queries.
   const MeshQuery truthQuery(truth.mesh);
-  const Samples s = sampleFaces(pred.mesh, opt.subdivisionLevels);
-  const std::vector<ClosestHit> hits = truthQuery.closestPoints(s.point);
-  out.numSamples = static_cast<int>(hits.size());
   double total = 0, off = 0;
-  for (std::size_t i = 0; i < hits.size(); ++i) {
-    const double w = s.weight(static_cast<Eigen::Index>(i));
-    total += w;
-    out.maxSampleDistance = std::max(out.maxSampleDistance, hits[i].distance);
-    if (hits[i].distance > opt.maxDistance) {
-      off += w;
-      continue;
+  auto locate = [&](const Samples& s, bool accumulate) {
+    const std::vector<ClosestHit> hits = truthQuery.closestPoints(s.point);
+    out.numSamples += static_cast<int>(hits.size());
+    total = off = 0;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      const double w = s.weight(static_cast<Eigen::Index>(i));
+      total += w;
+      out.maxSampleDistance = std::max(out.maxSampleDistance, hits[i].distance);
+      if (hits[i].distance > opt.maxDistance) off += w;
+      else if (accumulate) out.area(hits[i].face, pred.faceLabel(s.face[i])) += w;
     }
-    out.area(hits[i].face, pred.faceLabel(s.face[i])) += w;
-  }
-  out.offFraction = total > 0 ? off / total : 1.0;
-  if (out.offFraction > opt.maxOffFraction)
-    throw InputError(fmt::format(
-        "the prediction does not lie on the truth's surface: {:.1f}% of its area is farther "
-        "than {:.1f} mm from it (up to {:.1f} mm); is it a segmentation of another scan, or in "
-        "other units or another frame?",
-        100 * off / std::max(total, 1e-300), 1e3 * opt.maxDistance, 1e3 * out.maxSampleDistance));
+    out.offFraction = total > 0 ? off / total : 1.0;
+    if (out.offFraction > opt.maxOffFraction)
+      throw InputError(fmt::format(
+          "the prediction does not lie on the truth's surface: {:.1f}% of its area is farther "
+          "than {:.1f} mm from it (up to {:.1f} mm); is it a segmentation of another scan, or "
+          "in other units or another frame?",
+          100 * out.offFraction, 1e3 * opt.maxDistance, 1e3 * out.maxSampleDistance));
+  };
+  if (opt.subdivisionLevels > 0) locate(sampleFaces(pred.mesh, 0), false);
+  locate(sampleFaces(pred.mesh, opt.subdivisionLevels), true);
 
   // Rows → fractions of each truth face; faces no sample reached ask the prediction directly.
   std::vector<int> missed;

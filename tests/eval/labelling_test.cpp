@@ -98,8 +98,12 @@ TEST(LabelTransfer, CutFacesLandInTheirScanFaceWithTheirArea) {
   for (int f = 0; f < truth.mesh.numFaces(); ++f) {
     EXPECT_NEAR(t.area.row(f).sum(), area(f), 1e-15);
     const double y = test::faceCentroid(truth.mesh, f).y();
-    if (y < 0.52) EXPECT_NEAR(t.area(f, 0), area(f), 1e-15);
-    if (y > 0.53) EXPECT_NEAR(t.area(f, 1), area(f), 1e-15);
+    if (y < 0.52) {
+      EXPECT_NEAR(t.area(f, 0), area(f), 1e-15);
+    }
+    if (y > 0.53) {
+      EXPECT_NEAR(t.area(f, 1), area(f), 1e-15);
+    }
   }
   const double crossedRowUpper = [&] {
     double s = 0;
