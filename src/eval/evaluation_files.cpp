@@ -16,9 +16,7 @@ void requireFile(const fs::path& p, const std::string& role) {
     throw IoError(fmt::format("{} {} does not exist or is not a file", role, p.string()));
 }
 
-}  // namespace
-
-nlohmann::json readJsonFile(const fs::path& path) {
+nlohmann::json parseJsonFile(const fs::path& path) {
   const std::string bytes = readFileBytes(path);
   try {
     return nlohmann::json::parse(bytes);
@@ -27,8 +25,12 @@ nlohmann::json readJsonFile(const fs::path& path) {
   }
 }
 
+}  // namespace
+
+nlohmann::json readBodyJson(const fs::path& path) { return parseJsonFile(path); }
+
 std::vector<TrueBoundary> readBoundaries(const fs::path& path) {
-  const nlohmann::json j = readJsonFile(path);
+  const nlohmann::json j = parseJsonFile(path);
   if (j.is_object() && j.contains("boundaries"))
     return boundariesFromJson(j.at("boundaries"), path.string());
   return boundariesFromJson(j, path.string());
@@ -79,7 +81,7 @@ LoadedEvaluation loadEvaluation(const EvaluationFiles& files) {
   e.truthMesh = readLabelledMesh(files.truthMesh);
   e.prediction = readLabelledMesh(files.prediction);
   if (!files.boundaries.empty()) e.boundaries = readBoundaries(files.boundaries);
-  if (!files.body.empty()) e.body = readJsonFile(files.body);
+  if (!files.body.empty()) e.body = readBodyJson(files.body);
   return e;
 }
 

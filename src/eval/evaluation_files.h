@@ -27,8 +27,9 @@ EvaluationFiles resolveEvaluationFiles(const std::filesystem::path& truth,
                                        const std::filesystem::path& boundaries = {},
                                        const std::filesystem::path& body = {});
 
-// A JSON file: missing → IoError, not JSON → FormatError.
-nlohmann::json readJsonFile(const std::filesystem::path& path);
+// A body JSON (body.json of `scan2pattern body` or the fitter): missing → IoError, not JSON →
+// FormatError. Its content is checked by compareBodies.
+nlohmann::json readBodyJson(const std::filesystem::path& path);
 // boundaries.json: the truth's "boundaries" array, or an object holding one under
 // "boundaries". Malformed → FormatError.
 std::vector<TrueBoundary> readBoundaries(const std::filesystem::path& path);

@@ -1,5 +1,6 @@
 // `scan2pattern eval`: the truth against itself scores 1, a shifted labelling its known figures,
 // and missing or foreign inputs get their exit codes.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 
 #include "core/shapes.h"
@@ -16,15 +18,17 @@
 namespace s2p {
 namespace {
 
-struct Run {
+struct EvalRun {
   int code = -1;
   std::string out;
 };
 
-Run runApp(const std::string& args, bool withStderr = true) {
-  const std::string cmd =
-      std::string("'") + S2P_APP + "' " + args + (withStderr ? " 2>&1" : " 2>/dev/null");
-  Run r;
+// Runs the command with the arguments (each quoted), stdout and optionally stderr captured.
+EvalRun runApp(const std::vector<std::string>& args, bool withStderr = true) {
+  std::string cmd = fmt::format("'{}'", S2P_APP);
+  for (const std::string& a : args) cmd += fmt::format(" '{}'", a);
+  cmd += withStderr ? " 2>&1" : " 2>/dev/null";
+  EvalRun r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;
   char buf[4096];
@@ -33,8 +37,6 @@ Run runApp(const std::string& args, bool withStderr = true) {
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
 }
-
-std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
 
 constexpr int kRings = 50, kSegments = 32;
 constexpr double kRadius = 0.15, kHeight = 1.0;
@@ -74,13 +76,12 @@ TEST(EvalCli, TruthAgainstItselfScoresOne) {
   test::TempDir dir;
   const TriMesh m = makeCylinder(kRings, kSegments, kRadius, kHeight);
   writeTruthFiles(dir, m);
-  const Run r = runApp("eval --truth " + q(dir / "truth.json") + " --pred " + q(dir / "labels.ply"));
+  const EvalRun r = runApp({"eval", "--truth", dir / "truth.json", "--pred", dir / "labels.ply"});
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("1.000"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("missing"), std::string::npos) << r.out;
-  const Run js = runApp("-q eval --json --truth " + q(dir / "truth.json") + " --pred " +
-                            q(dir / "labels.ply"),
-                        false);
+  const EvalRun js = runApp(
+      {"-q", "eval", "--json", "--truth", dir / "truth.json", "--pred", dir / "labels.ply"}, false);
   ASSERT_EQ(js.code, 0) << js.out;
   const auto j = nlohmann::json::parse(js.out);
   EXPECT_DOUBLE_EQ(j["labels"]["upper"]["iou"].get<double>(), 1.0);
@@ -100,9 +101,8 @@ TEST(EvalCli, FolderWithBoundariesAndBodyGivesKnownFigures) {
                   nlohmann::json{{"boundaries", {circle(0.54)}}}.dump());
   test::writeFile(dir / "pred" / "body.json",
                   nlohmann::json{{"canonical", {{"pelvis", {0.0, 0.906, 0.008}}}}}.dump());
-  const Run r = runApp("-q eval --json --truth " + q(dir / "truth.json") + " --pred " +
-                           q(dir / "pred"),
-                       false);
+  const EvalRun r = runApp(
+      {"-q", "eval", "--json", "--truth", dir / "truth.json", "--pred", dir / "pred"}, false);
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_NEAR(j["labels"]["upper"]["iou"].get<double>(), 0.46 / 0.5, 1e-9);
@@ -116,32 +116,32 @@ TEST(EvalCli, MissingOrForeignInputsGetTheirExitCodes) {
   test::TempDir dir;
   const TriMesh m = makeCylinder(kRings, kSegments, kRadius, kHeight);
   writeTruthFiles(dir, m);
-  const std::string truth = " --truth " + q(dir / "truth.json");
-  Run r = runApp("eval" + truth + " --pred " + q(dir / "nothing.ply"));
+  const std::string truth = dir / "truth.json";
+  EvalRun r = runApp({"eval", "--truth", truth, "--pred", dir / "nothing.ply"});
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("nothing.ply"), std::string::npos) << r.out;
   std::filesystem::create_directory(dir / "empty");
-  r = runApp("eval" + truth + " --pred " + q(dir / "empty"));
+  r = runApp({"eval", "--truth", truth, "--pred", dir / "empty"});
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("segmentation.ply"), std::string::npos) << r.out;
-  r = runApp("eval --truth " + q(dir / "no_truth.json") + " --pred " + q(dir / "labels.ply"));
+  r = runApp({"eval", "--truth", dir / "no_truth.json", "--pred", dir / "labels.ply"});
   EXPECT_EQ(r.code, 3) << r.out;
-  r = runApp("eval" + truth + " --pred " + q(dir / "labels.ply") + " --body " +
-             q(dir / "no_body.json"));
+  r = runApp({"eval", "--truth", truth, "--pred", dir / "labels.ply", "--body",
+              dir / "no_body.json"});
   EXPECT_EQ(r.code, 3) << r.out;
-  EXPECT_EQ(runApp("eval --pred " + q(dir / "labels.ply")).code, 2);  // --truth required
+  EXPECT_EQ(runApp({"eval", "--pred", dir / "labels.ply"}).code, 2);  // --truth required
 
   // Another scan: the same cylinder half a metre away.
   TriMesh other = m;
   other.V.col(0).array() += 0.5;
   const Eigen::VectorXi fl = labelsBelowAbove(other, 0.5);
   writePly(dir / "other.ply", other, {.faceLabels = &fl});
-  r = runApp("eval" + truth + " --pred " + q(dir / "other.ply"));
+  r = runApp({"eval", "--truth", truth, "--pred", dir / "other.ply"});
   EXPECT_EQ(r.code, 5) << r.out;
   EXPECT_NE(r.out.find("another scan"), std::string::npos) << r.out;
 
   test::writeFile(dir / "garbage.ply", "ply\nformat nonsense\n");
-  EXPECT_EQ(runApp("eval" + truth + " --pred " + q(dir / "garbage.ply")).code, 4);
+  EXPECT_EQ(runApp({"eval", "--truth", truth, "--pred", dir / "garbage.ply"}).code, 4);
 }
 
 }  // namespace
