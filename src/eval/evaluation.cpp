@@ -47,7 +47,8 @@ void scoreLabels(const Eigen::VectorXi& truthLabel, const Eigen::VectorXd& truth
     tArea(t) += truthArea(f);
     pArea += predArea.row(f).transpose();
     inter(t) += predArea(f, t);
-    out.unlabelledArea += std::max(0.0, truthArea(f) - predArea.row(f).sum());
+    const double uncovered = truthArea(f) - predArea.row(f).sum();
+    if (uncovered > 1e-9 * truthArea(f)) out.unlabelledArea += uncovered;  // not rounding
   }
   out.labels.clear();
   out.garmentLabels.clear();

@@ -2,12 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "core/error.h"
 #include "core/mesh_query.h"
+#include "core/surface_point.h"
 #include "io/read_ply.h"
 #include "synth/truth.h"
 
@@ -38,15 +41,16 @@ void subdivide(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::
   subdivide(ab, bc, ca, levels - 1, area / 4, face, s, row);
 }
 
-Samples sampleFaces(const TriMesh& m, int levels) {
+Samples sampleFaces(const TriMesh& m, const std::vector<int>& faces, int levels) {
   const Eigen::VectorXd area = faceAreas(m);
   const Eigen::Index per = Eigen::Index{1} << (2 * levels);
+  const auto n = static_cast<Eigen::Index>(faces.size()) * per;
   Samples s;
-  s.point.resize(m.numFaces() * per, 3);
-  s.weight.resize(m.numFaces() * per);
-  s.face.resize(static_cast<std::size_t>(m.numFaces() * per));
+  s.point.resize(n, 3);
+  s.weight.resize(n);
+  s.face.resize(static_cast<std::size_t>(n));
   Eigen::Index row = 0;
-  for (int f = 0; f < m.numFaces(); ++f)
+  for (int f : faces)
     subdivide(m.V.row(m.F(f, 0)).transpose(), m.V.row(m.F(f, 1)).transpose(),
               m.V.row(m.F(f, 2)).transpose(), levels, area(f), f, s, row);
   return s;
@@ -132,31 +136,64 @@ LabelTransfer transferLabels(const LabelledMesh& truth, const LabelledMesh& pred
     return out;
   }
 
-  // Predicted samples → truth faces (exact cuts: each cut face lies inside one scan face).
-  // Face centroids first, so a prediction far from the truth is refused after #F queries.
+  // Pass 1: one closest-point query per predicted face centroid; a prediction far from the
+  // truth is refused here. A face whose corners all project into the truth face under its
+  // centroid lies in that face (exact cuts: every cut face lies in one scan face) and gives it
+  // its whole area.
   const MeshQuery truthQuery(truth.mesh);
+  const Eigen::VectorXd predArea = faceAreas(pred.mesh);
+  std::vector<int> all(static_cast<std::size_t>(pred.mesh.numFaces()));
+  for (int f = 0; f < pred.mesh.numFaces(); ++f) all[static_cast<std::size_t>(f)] = f;
+  const std::vector<ClosestHit> centre =
+      truthQuery.closestPoints(sampleFaces(pred.mesh, all, 0).point);
+  out.numSamples = static_cast<int>(centre.size());
   double total = 0, off = 0;
-  auto locate = [&](const Samples& s, bool accumulate) {
+  std::vector<int> straddling;
+  for (int f = 0; f < pred.mesh.numFaces(); ++f) {
+    const ClosestHit& hit = centre[static_cast<std::size_t>(f)];
+    total += predArea(f);
+    out.maxSampleDistance = std::max(out.maxSampleDistance, hit.distance);
+    if (hit.distance > opt.maxDistance) {
+      off += predArea(f);
+      continue;
+    }
+    const Eigen::Vector3d a = truth.mesh.V.row(truth.mesh.F(hit.face, 0));
+    const Eigen::Vector3d b = truth.mesh.V.row(truth.mesh.F(hit.face, 1));
+    const Eigen::Vector3d c = truth.mesh.V.row(truth.mesh.F(hit.face, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    bool inside = n.allFinite();
+    for (int k = 0; k < 3 && inside; ++k) {
+      const Eigen::Vector3d p = pred.mesh.V.row(pred.mesh.F(f, k));
+      inside = planeBarycentric(p, a, b, c).minCoeff() >= -1e-9 &&
+               std::abs((p - a).dot(n)) <= opt.maxDistance;
+    }
+    if (inside || opt.subdivisionLevels == 0) out.area(hit.face, pred.faceLabel(f)) += predArea(f);
+    else straddling.push_back(f);
+  }
+  out.offFraction = total > 0 ? off / total : 1.0;
+  if (out.offFraction > opt.maxOffFraction)
+    throw InputError(fmt::format(
+        "the prediction does not lie on the truth's surface: {:.1f}% of its area is farther "
+        "than {:.1f} mm from it (up to {:.1f} mm); is it a segmentation of another scan, or in "
+        "other units or another frame?",
+        100 * out.offFraction, 1e3 * opt.maxDistance, 1e3 * out.maxSampleDistance));
+
+  // Pass 2: faces straddling truth faces are split into 4^levels sub-triangles, each located
+  // by its centroid and carrying its share of the area.
+  constexpr std::size_t kChunk = 1 << 16;  // faces per batch: bounds the samples held at once
+  for (std::size_t begin = 0; begin < straddling.size(); begin += kChunk) {
+    const std::vector<int> batch(straddling.begin() + static_cast<std::ptrdiff_t>(begin),
+                                 straddling.begin() + static_cast<std::ptrdiff_t>(
+                                                          std::min(begin + kChunk, straddling.size())));
+    const Samples s = sampleFaces(pred.mesh, batch, opt.subdivisionLevels);
     const std::vector<ClosestHit> hits = truthQuery.closestPoints(s.point);
     out.numSamples += static_cast<int>(hits.size());
-    total = off = 0;
     for (std::size_t i = 0; i < hits.size(); ++i) {
-      const double w = s.weight(static_cast<Eigen::Index>(i));
-      total += w;
       out.maxSampleDistance = std::max(out.maxSampleDistance, hits[i].distance);
-      if (hits[i].distance > opt.maxDistance) off += w;
-      else if (accumulate) out.area(hits[i].face, pred.faceLabel(s.face[i])) += w;
+      if (hits[i].distance <= opt.maxDistance)
+        out.area(hits[i].face, pred.faceLabel(s.face[i])) += s.weight(static_cast<Eigen::Index>(i));
     }
-    out.offFraction = total > 0 ? off / total : 1.0;
-    if (out.offFraction > opt.maxOffFraction)
-      throw InputError(fmt::format(
-          "the prediction does not lie on the truth's surface: {:.1f}% of its area is farther "
-          "than {:.1f} mm from it (up to {:.1f} mm); is it a segmentation of another scan, or "
-          "in other units or another frame?",
-          100 * out.offFraction, 1e3 * opt.maxDistance, 1e3 * out.maxSampleDistance));
-  };
-  if (opt.subdivisionLevels > 0) locate(sampleFaces(pred.mesh, 0), false);
-  locate(sampleFaces(pred.mesh, opt.subdivisionLevels), true);
+  }
 
   // Rows → fractions of each truth face; faces no sample reached ask the prediction directly.
   std::vector<int> missed;

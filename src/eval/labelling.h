@@ -31,7 +31,8 @@ LabelledMesh readLabelledMesh(const std::filesystem::path& path);
 void validateLabelledMesh(const LabelledMesh& m, const std::string& what);
 
 struct LabelTransferOptions {
-  int subdivisionLevels = 2;   // midpoint subdivisions of a predicted face: 4^levels samples
+  int subdivisionLevels = 2;   // midpoint subdivisions of a straddling predicted face: 4^levels
+                               // samples (0: the whole face goes where its centroid lands)
   double maxDistance = 0.01;   // m: a sample farther than this from the truth surface is "off"
   double maxOffFraction = 0.05;  // more predicted area than this fraction off → InputError
 };
@@ -39,20 +40,21 @@ struct LabelTransferOptions {
 struct LabelTransfer {
   Eigen::MatrixXd area;      // #F_truth × kNumLabels: predicted area of each label in each face
   bool identity = false;     // the meshes were identical; no sampling was needed
-  int numSamples = 0;        // closest-point queries made (predicted samples + fallbacks)
+  int numSamples = 0;        // closest-point queries made (centroids, sub-triangles, fallbacks)
   int unlabelledFaces = 0;   // truth faces no sample reached and no predicted face is near
-  double offFraction = 0;    // fraction of predicted area farther than maxDistance
+  double offFraction = 0;    // fraction of predicted area whose centroid is beyond maxDistance
   double maxSampleDistance = 0;  // m, largest sample-to-truth distance
 };
 
 // The predicted labelling as label areas per truth face. Identical V and F: the identity.
-// Otherwise each predicted face is split into 4^levels sub-triangles of equal area whose
-// centroids are located on the truth mesh by closest point (MeshQuery); each carries a
-// quarter (sixteenth, ...) of the face's area to the truth face it lands in. Rows are then
-// scaled to the truth face's area (the prediction's label fractions of that face). A truth
-// face that no sample reaches takes the label of the predicted face closest to its centroid
-// if within maxDistance, else stays unlabelled (row of zeros). A prediction that is not on the
-// truth surface (offFraction > maxOffFraction, e.g. a segmentation of another scan) →
+// Otherwise each predicted face's centroid is located on the truth mesh by closest point
+// (MeshQuery); a face whose corners all project into that truth face (a face of an exact cut,
+// or of a finer mesh of the same surface) gives it its whole area; a face straddling truth
+// faces is split into 4^levels sub-triangles of equal area located by their centroids. Rows
+// are then scaled to the truth face's area (the prediction's label fractions of that face). A
+// truth face no predicted area reaches takes the label of the predicted face closest to its
+// centroid if within maxDistance, else stays unlabelled (row of zeros). A prediction not on
+// the truth surface (offFraction > maxOffFraction, e.g. a segmentation of another scan) →
 // InputError saying so.
 LabelTransfer transferLabels(const LabelledMesh& truth, const LabelledMesh& prediction,
                              const LabelTransferOptions& options = {});

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+
 #include "core/error.h"
 #include "eval/eval_fixtures.h"
 
@@ -130,6 +134,26 @@ TEST(Evaluation, FinerMeshOfTheSameSurfaceTransfersByArea) {
   EXPECT_FALSE(e.identityTransfer);
   EXPECT_NEAR(e.label(Label::Upper)->iou, (1 - 0.515) / (1 - kH), 1e-3);
   EXPECT_NEAR(e.boundaries.at(0).pooled.mean, 0.015, 1e-6);
+}
+
+TEST(Evaluation, StraddlingFacesAreSampledByArea) {
+  const Case c;
+  // Another tessellation of (nearly) the same surface: 70 rings, rotated by half a segment, so
+  // its faces straddle truth faces; its boundary on ring 36 (y = 36/70).
+  CylinderSpec other = c.spec;
+  other.rings = 70;
+  LabelledMesh pred;
+  pred.mesh = makeCylinder(other.rings, other.segments, other.radius, other.height);
+  const double turn = std::numbers::pi / other.segments;
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  pred.mesh.V = pred.mesh.V * rot.transpose();
+  const double y = 36.0 / 70.0;
+  pred.faceLabel = test::labelsByHeight(pred.mesh, y);
+  const Evaluation e = c.run(pred);
+  EXPECT_FALSE(e.identityTransfer);
+  EXPECT_NEAR(e.label(Label::Upper)->iou, (1 - y) / (1 - kH), 1e-3);
+  EXPECT_NEAR(e.label(Label::Skin)->iou, kH / y, 1e-3);
+  EXPECT_LT(e.maxSampleDistance, c.spec.radius * (1 - std::cos(turn)) + 1e-9);  // chord sag
 }
 
 TEST(Evaluation, GapFacesAreIgnored) {
