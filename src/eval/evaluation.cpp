@@ -27,7 +27,7 @@ const LabelScore* Evaluation::label(Label l) const {
 }
 
 void scoreLabels(const Eigen::VectorXi& truthLabel, const Eigen::VectorXd& truthArea,
-                 const Eigen::MatrixXd& predArea, Evaluation& out) {
+                 const Eigen::MatrixXd& predArea, bool onePiece, Evaluation& out) {
   if (truthLabel.size() != truthArea.size() || predArea.rows() != truthLabel.size() ||
       predArea.cols() != kNumLabels)
     throw InputError(fmt::format("scoreLabels: {} truth labels, {} areas and a {}×{} predicted "
@@ -67,7 +67,7 @@ void scoreLabels(const Eigen::VectorXi& truthLabel, const Eigen::VectorXd& truth
     if (tArea(l) > 0) {
       sum += s.iou;
       ++present;
-      if (s.label == Label::Upper || s.label == Label::Lower) {
+      if (s.label == Label::Upper || (s.label == Label::Lower && !onePiece)) {
         out.garmentLabels.push_back(s.label);
         garmentSum += s.iou;
       }
@@ -84,7 +84,8 @@ Evaluation evaluate(const EvaluationInput& in, const EvaluationOptions& opt) {
   const LabelTransfer transfer = transferLabels(*in.truthMesh, *in.prediction, opt.transfer);
   out.identityTransfer = transfer.identity;
   out.maxSampleDistance = transfer.maxSampleDistance;
-  scoreLabels(in.truthMesh->faceLabel, faceAreas(in.truthMesh->mesh), transfer.area, out);
+  scoreLabels(in.truthMesh->faceLabel, faceAreas(in.truthMesh->mesh), transfer.area,
+              in.truth->hasOnePiece(), out);
 
   std::vector<TrueBoundary> extracted;
   const std::vector<TrueBoundary>* pred = in.predictedBoundaries;

@@ -42,8 +42,8 @@ struct Evaluation {
   // Every label present in the truth or the prediction, by code; Gap never (don't-care).
   std::vector<LabelScore> labels;
   double meanIoU = 0;                // over the labels present in the truth
-  std::vector<Label> garmentLabels;  // upper and lower when present in the truth
-  double meanGarmentIoU = 0;         // over garmentLabels (one-piece outfits: upper only)
+  std::vector<Label> garmentLabels;  // upper and lower present in the truth (one-piece: upper)
+  double meanGarmentIoU = 0;         // over garmentLabels
   double gapArea = 0;                // m², truth Gap faces left out of every IoU
   double unlabelledArea = 0;         // m², truth area the prediction does not cover
   bool identityTransfer = false;     // the prediction was on the truth mesh itself
@@ -57,9 +57,10 @@ struct Evaluation {
 
 // IoU per label from the truth's face labels and the predicted area per truth face
 // (#F × kNumLabels, transferLabels). Truth faces labelled Gap are left out entirely (paper §5.2
-// cuts them off; either side is acceptable), so labelling them anything changes nothing.
+// cuts them off; either side is acceptable), so labelling them anything changes nothing. The
+// garment mean is over upper and lower when present, or upper only when onePiece (§5.3).
 void scoreLabels(const Eigen::VectorXi& truthLabel, const Eigen::VectorXd& truthArea,
-                 const Eigen::MatrixXd& predArea, Evaluation& out);
+                 const Eigen::MatrixXd& predArea, bool onePiece, Evaluation& out);
 
 // All metrics. Missing required inputs or invalid meshes → InputError; a prediction not on the
 // truth surface → InputError (transferLabels); a true boundary without prediction is reported

@@ -39,14 +39,15 @@ struct LabelTransferOptions {
 
 struct LabelTransfer {
   Eigen::MatrixXd area;      // #F_truth × kNumLabels: predicted area of each label in each face
-  bool identity = false;     // the meshes were identical; no sampling was needed
+  bool identity = false;     // same faces and vertices (within 1 µm); no sampling needed
   int numSamples = 0;        // closest-point queries made (centroids, sub-triangles, fallbacks)
   int unlabelledFaces = 0;   // truth faces no sample reached and no predicted face is near
   double offFraction = 0;    // fraction of predicted area whose centroid is beyond maxDistance
   double maxSampleDistance = 0;  // m, largest sample-to-truth distance
 };
 
-// The predicted labelling as label areas per truth face. Identical V and F: the identity.
+// The predicted labelling as label areas per truth face. Same F and V (within 1 µm): the
+// identity.
 // Otherwise each predicted face's centroid is located on the truth mesh by closest point
 // (MeshQuery); a face whose corners all project into that truth face (a face of an exact cut,
 // or of a finer mesh of the same surface) gives it its whole area; a face straddling truth

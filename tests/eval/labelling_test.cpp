@@ -82,6 +82,12 @@ TEST(LabelTransfer, IdentityGivesTheFaceAreas) {
     EXPECT_DOUBLE_EQ(t.area(f, lm.faceLabel(f)), area(f));
     EXPECT_DOUBLE_EQ(t.area.row(f).sum(), area(f));
   }
+  // A copy stored in single precision is still the same mesh.
+  LabelledMesh single = lm;
+  single.mesh.V = lm.mesh.V.cast<float>().cast<double>();
+  EXPECT_TRUE(transferLabels(lm, single).identity);
+  single.mesh.V(5, 0) += 1e-4;  // but a moved vertex is not
+  EXPECT_FALSE(transferLabels(lm, single).identity);
 }
 
 TEST(LabelTransfer, CutFacesLandInTheirScanFaceWithTheirArea) {
