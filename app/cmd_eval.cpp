@@ -46,8 +46,9 @@ int runEval(const EvalCommand& cmd, Progress& progress) {
 void addEvalCommand(CLI::App& app, Commands& out) {
   auto o = std::make_shared<EvalCommand>();
   auto* cmd = app.add_subcommand(
-      "eval", "Score a segmentation against a synthetic scan's ground truth: IoU per label, "
-              "boundary distance (mm) and roughness, body joint error");
+      "eval",
+      "Score a segmentation against a synthetic scan's ground truth: IoU per label, "
+      "boundary distance (mm) and roughness, body joint error");
   cmd->add_option("--truth", o->truth, "truth.json of a synthetic scan")->required();
   cmd->add_option("--pred", o->pred,
                   "Labelled PLY (face or vertex \"label\"), or a folder holding "

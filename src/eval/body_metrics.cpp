@@ -54,8 +54,8 @@ BodyScore compareBodies(const nlohmann::json& truthBody, const nlohmann::json& p
   }
   s.count = static_cast<int>(s.joints.size());
   if (s.count == 0)
-    throw InputError(fmt::format("{} and {} have no canonical joint name in common", predWhat,
-                                 truthWhat));
+    throw InputError(
+        fmt::format("{} and {} have no canonical joint name in common", predWhat, truthWhat));
   s.meanError /= s.count;
   return s;
 }

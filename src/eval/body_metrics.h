@@ -9,16 +9,16 @@
 namespace s2p {
 
 struct JointError {
-  std::string name;   // canonical joint name
-  double error = 0;   // m, |predicted − true|
+  std::string name;  // canonical joint name
+  double error = 0;  // m, |predicted − true|
 };
 
 struct BodyScore {
-  int count = 0;               // canonical joints present in both
-  double meanError = 0;        // m
-  double maxError = 0;         // m
-  std::string worstJoint;      // name of the joint with maxError
-  std::vector<JointError> joints;  // per joint, sorted by name
+  int count = 0;                     // canonical joints present in both
+  double meanError = 0;              // m
+  double maxError = 0;               // m
+  std::string worstJoint;            // name of the joint with maxError
+  std::vector<JointError> joints;    // per joint, sorted by name
   std::vector<std::string> missing;  // true joints the prediction lacks
 };
 

@@ -23,7 +23,9 @@ std::vector<Eigen::Vector3d> vertexList(const Eigen::MatrixX3d& c, bool closed) 
   return p;
 }
 
-bool isClosed(const TrueBoundary& b, std::size_t c) { return c < b.closed.size() && b.closed[c]; }
+bool isClosed(const TrueBoundary& b, std::size_t c) {
+  return c < b.closed.size() && b.closed[c];
+}
 
 double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                             const Eigen::Vector3d& b) {
@@ -68,7 +70,9 @@ std::vector<TrueBoundary> extractLabelBoundaries(const LabelledMesh& m, bool ski
       incident[edges[i].second].push_back(static_cast<int>(i));
     }
     std::vector<bool> used(edges.size(), false);
-    auto other = [&](int e, int v) { return edges[e].first == v ? edges[e].second : edges[e].first; };
+    auto other = [&](int e, int v) {
+      return edges[e].first == v ? edges[e].second : edges[e].first;
+    };
     auto walk = [&](int start, int firstEdge) {
       std::vector<int> chain{start};
       int v = start, e = firstEdge;
@@ -109,7 +113,8 @@ std::vector<TrueBoundary> extractLabelBoundaries(const LabelledMesh& m, bool ski
 }
 
 Eigen::MatrixX3d samplePolyline(const Eigen::MatrixX3d& curve, bool closed, double maxSpacing) {
-  if (!(maxSpacing > 0)) throw InputError(fmt::format("sample spacing {} m is not positive", maxSpacing));
+  if (!(maxSpacing > 0))
+    throw InputError(fmt::format("sample spacing {} m is not positive", maxSpacing));
   if (curve.rows() == 0) return Eigen::MatrixX3d(0, 3);
   const std::vector<Eigen::Vector3d> p = vertexList(curve, closed);
   std::vector<double> cum{0.0};
@@ -173,8 +178,8 @@ BoundaryScore compareBoundary(const TrueBoundary& truth, const TrueBoundary* pre
   if (!hasPoints(pred) || !hasPoints(&truth)) return s;
   s.missing = false;
   s.predLength = pred->length();
-  s.roughness = s.trueLength > 0 ? s.predLength / s.trueLength
-                                 : std::numeric_limits<double>::infinity();
+  s.roughness =
+      s.trueLength > 0 ? s.predLength / s.trueLength : std::numeric_limits<double>::infinity();
   auto samples = [&](const TrueBoundary& b) {
     std::vector<Eigen::MatrixX3d> parts;
     Eigen::Index n = 0;

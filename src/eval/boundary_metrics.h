@@ -35,13 +35,13 @@ DistanceStats distanceStats(const Eigen::VectorXd& d);
 
 struct BoundaryScore {
   Label a = Label::Skin, b = Label::Skin;
-  bool missing = true;        // no predicted curve for this pair: distances and roughness unset
-  double trueLength = 0;      // m
-  double predLength = 0;      // m
-  double roughness = 0;       // predLength / trueLength
-  DistanceStats predToTrue;   // predicted samples → true curves
-  DistanceStats trueToPred;   // true samples → predicted curves
-  DistanceStats pooled;       // both directions together
+  bool missing = true;       // no predicted curve for this pair: distances and roughness unset
+  double trueLength = 0;     // m
+  double predLength = 0;     // m
+  double roughness = 0;      // predLength / trueLength
+  DistanceStats predToTrue;  // predicted samples → true curves
+  DistanceStats trueToPred;  // true samples → predicted curves
+  DistanceStats pooled;      // both directions together
 };
 
 struct BoundaryMetricOptions {

@@ -8,7 +8,9 @@ namespace s2p {
 namespace {
 
 nlohmann::json statsToJson(const DistanceStats& s) {
-  return {{"count", s.count}, {"mean_mm", 1e3 * s.mean}, {"p95_mm", 1e3 * s.p95},
+  return {{"count", s.count},
+          {"mean_mm", 1e3 * s.mean},
+          {"p95_mm", 1e3 * s.p95},
           {"max_mm", 1e3 * s.max}};
 }
 
@@ -30,10 +32,10 @@ void scoreLabels(const Eigen::VectorXi& truthLabel, const Eigen::VectorXd& truth
                  const Eigen::MatrixXd& predArea, bool onePiece, Evaluation& out) {
   if (truthLabel.size() != truthArea.size() || predArea.rows() != truthLabel.size() ||
       predArea.cols() != kNumLabels)
-    throw InputError(fmt::format("scoreLabels: {} truth labels, {} areas and a {}×{} predicted "
-                                 "area matrix do not match",
-                                 truthLabel.size(), truthArea.size(), predArea.rows(),
-                                 predArea.cols()));
+    throw InputError(
+        fmt::format("scoreLabels: {} truth labels, {} areas and a {}×{} predicted "
+                    "area matrix do not match",
+                    truthLabel.size(), truthArea.size(), predArea.rows(), predArea.cols()));
   const int gap = static_cast<int>(Label::Gap);
   Eigen::VectorXd tArea = Eigen::VectorXd::Zero(kNumLabels), pArea = tArea, inter = tArea;
   out.gapArea = out.unlabelledArea = 0;
@@ -74,7 +76,8 @@ void scoreLabels(const Eigen::VectorXi& truthLabel, const Eigen::VectorXd& truth
     }
   }
   out.meanIoU = present ? sum / present : 0;
-  out.meanGarmentIoU = out.garmentLabels.empty() ? 0 : garmentSum / static_cast<double>(out.garmentLabels.size());
+  out.meanGarmentIoU =
+      out.garmentLabels.empty() ? 0 : garmentSum / static_cast<double>(out.garmentLabels.size());
 }
 
 Evaluation evaluate(const EvaluationInput& in, const EvaluationOptions& opt) {
@@ -162,11 +165,10 @@ std::string formatEvaluation(const Evaluation& e) {
   if (e.gapArea > 0) s += fmt::format("gap faces left out: {:.4f} m²\n", e.gapArea);
   if (e.unlabelledArea > 0)
     s += fmt::format("truth area the prediction does not cover: {:.4f} m²\n", e.unlabelledArea);
-  s += fmt::format("\nboundaries (mm; predicted curves from {})\n", e.boundarySource == "curves"
-                                                                   ? "the given curves"
-                                                                   : "the label edges");
-  s += fmt::format("{:<14}{:>10}{:>10}{:>10}{:>10}{:>10}{:>10}{:>10}\n", "pair", "pred→true",
-                   "p95", "true→pred", "p95", "mean", "p95", "rough");
+  s += fmt::format("\nboundaries (mm; predicted curves from {})\n",
+                   e.boundarySource == "curves" ? "the given curves" : "the label edges");
+  s += fmt::format("{:<14}{:>10}{:>10}{:>10}{:>10}{:>10}{:>10}{:>10}\n", "pair", "pred→true", "p95",
+                   "true→pred", "p95", "mean", "p95", "rough");
   for (const BoundaryScore& b : e.boundaries) {
     const std::string pair = fmt::format("{}|{}", toString(b.a), toString(b.b));
     if (b.missing) {
@@ -175,9 +177,8 @@ std::string formatEvaluation(const Evaluation& e) {
       continue;
     }
     s += fmt::format("{:<14}{:>10.2f}{:>10.2f}{:>10.2f}{:>10.2f}{:>10.2f}{:>10.2f}{:>10.3f}\n",
-                     pair, 1e3 * b.predToTrue.mean, 1e3 * b.predToTrue.p95,
-                     1e3 * b.trueToPred.mean, 1e3 * b.trueToPred.p95, 1e3 * b.pooled.mean,
-                     1e3 * b.pooled.p95, b.roughness);
+                     pair, 1e3 * b.predToTrue.mean, 1e3 * b.predToTrue.p95, 1e3 * b.trueToPred.mean,
+                     1e3 * b.trueToPred.p95, 1e3 * b.pooled.mean, 1e3 * b.pooled.p95, b.roughness);
   }
   if (e.boundaries.empty()) s += "(the truth has no boundaries)\n";
   if (e.body)

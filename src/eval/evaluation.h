@@ -41,14 +41,14 @@ struct LabelScore {
 struct Evaluation {
   // Every label present in the truth or the prediction, by code; Gap never (don't-care).
   std::vector<LabelScore> labels;
-  double meanIoU = 0;                // over the labels present in the truth
-  std::vector<Label> garmentLabels;  // upper and lower present in the truth (one-piece: upper)
-  double meanGarmentIoU = 0;         // over garmentLabels
-  double gapArea = 0;                // m², truth Gap faces left out of every IoU
-  double unlabelledArea = 0;         // m², truth area the prediction does not cover
-  bool identityTransfer = false;     // the prediction was on the truth mesh itself
-  double maxSampleDistance = 0;      // m, prediction → truth surface (0 for the identity)
-  std::string boundarySource;        // "curves" (given) or "labels" (extracted)
+  double meanIoU = 0;                     // over the labels present in the truth
+  std::vector<Label> garmentLabels;       // upper and lower present in the truth (one-piece: upper)
+  double meanGarmentIoU = 0;              // over garmentLabels
+  double gapArea = 0;                     // m², truth Gap faces left out of every IoU
+  double unlabelledArea = 0;              // m², truth area the prediction does not cover
+  bool identityTransfer = false;          // the prediction was on the truth mesh itself
+  double maxSampleDistance = 0;           // m, prediction → truth surface (0 for the identity)
+  std::string boundarySource;             // "curves" (given) or "labels" (extracted)
   std::vector<BoundaryScore> boundaries;  // one per true boundary not involving Gap
   std::optional<BodyScore> body;
 

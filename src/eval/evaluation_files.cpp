@@ -27,7 +27,9 @@ nlohmann::json parseJsonFile(const fs::path& path) {
 
 }  // namespace
 
-nlohmann::json readBodyJson(const fs::path& path) { return parseJsonFile(path); }
+nlohmann::json readBodyJson(const fs::path& path) {
+  return parseJsonFile(path);
+}
 
 std::vector<TrueBoundary> readBoundaries(const fs::path& path) {
   const nlohmann::json j = parseJsonFile(path);

@@ -12,11 +12,11 @@
 namespace s2p {
 
 struct EvaluationFiles {
-  std::filesystem::path truth;        // truth.json
-  std::filesystem::path truthMesh;    // its "labelled_mesh", resolved relative to truth.json
-  std::filesystem::path prediction;   // labelled PLY
-  std::filesystem::path boundaries;   // boundaries.json; empty: extract from the labels
-  std::filesystem::path body;         // body.json; empty: no body metric
+  std::filesystem::path truth;       // truth.json
+  std::filesystem::path truthMesh;   // its "labelled_mesh", resolved relative to truth.json
+  std::filesystem::path prediction;  // labelled PLY
+  std::filesystem::path boundaries;  // boundaries.json; empty: extract from the labels
+  std::filesystem::path body;        // body.json; empty: no body metric
 };
 
 // Resolves PRED: a labelled PLY, or a folder holding segmentation.ply (and optionally

@@ -73,9 +73,12 @@ Eigen::VectorXi faceLabelsFromVertexLabels(const Eigen::MatrixX3i& F,
         throw InputError(fmt::format("vertex {} has label {}, not a label code in [0, {})", v,
                                      vertexLabel(v), kNumLabels));
     }
-    if (l[0] == l[1] || l[0] == l[2]) out(f) = l[0];
-    else if (l[1] == l[2]) out(f) = l[1];
-    else out(f) = std::min({l[0], l[1], l[2]});
+    if (l[0] == l[1] || l[0] == l[2])
+      out(f) = l[0];
+    else if (l[1] == l[2])
+      out(f) = l[1];
+    else
+      out(f) = std::min({l[0], l[1], l[2]});
   }
   return out;
 }
@@ -87,8 +90,8 @@ void validateLabelledMesh(const LabelledMesh& m, const std::string& what) {
                                  m.faceLabel.size(), m.mesh.numFaces()));
   for (Eigen::Index f = 0; f < m.faceLabel.size(); ++f)
     if (!isValidLabel(m.faceLabel(f)))
-      throw InputError(fmt::format("{}: face {} has label {}, not a label code in [0, {})", what,
-                                   f, m.faceLabel(f), kNumLabels));
+      throw InputError(fmt::format("{}: face {} has label {}, not a label code in [0, {})", what, f,
+                                   m.faceLabel(f), kNumLabels));
 }
 
 LabelledMesh readLabelledMesh(const std::filesystem::path& path) {
@@ -168,8 +171,10 @@ LabelTransfer transferLabels(const LabelledMesh& truth, const LabelledMesh& pred
       inside = planeBarycentric(p, a, b, c).minCoeff() >= -1e-6 &&
                std::abs((p - a).dot(n)) <= opt.maxDistance;
     }
-    if (inside || opt.subdivisionLevels == 0) out.area(hit.face, pred.faceLabel(f)) += predArea(f);
-    else straddling.push_back(f);
+    if (inside || opt.subdivisionLevels == 0)
+      out.area(hit.face, pred.faceLabel(f)) += predArea(f);
+    else
+      straddling.push_back(f);
   }
   out.offFraction = total > 0 ? off / total : 1.0;
   if (out.offFraction > opt.maxOffFraction)
@@ -184,8 +189,8 @@ LabelTransfer transferLabels(const LabelledMesh& truth, const LabelledMesh& pred
   constexpr std::size_t kChunk = 1 << 16;  // faces per batch: bounds the samples held at once
   for (std::size_t begin = 0; begin < straddling.size(); begin += kChunk) {
     const std::vector<int> batch(straddling.begin() + static_cast<std::ptrdiff_t>(begin),
-                                 straddling.begin() + static_cast<std::ptrdiff_t>(
-                                                          std::min(begin + kChunk, straddling.size())));
+                                 straddling.begin() + static_cast<std::ptrdiff_t>(std::min(
+                                                          begin + kChunk, straddling.size())));
     const Samples s = sampleFaces(pred.mesh, batch, opt.subdivisionLevels);
     const std::vector<ClosestHit> hits = truthQuery.closestPoints(s.point);
     out.numSamples += static_cast<int>(hits.size());
@@ -200,8 +205,10 @@ LabelTransfer transferLabels(const LabelledMesh& truth, const LabelledMesh& pred
   std::vector<int> missed;
   for (int f = 0; f < nF; ++f) {
     const double sum = out.area.row(f).sum();
-    if (sum > 0) out.area.row(f) *= truthArea(f) / sum;
-    else if (truthArea(f) > 0) missed.push_back(f);
+    if (sum > 0)
+      out.area.row(f) *= truthArea(f) / sum;
+    else if (truthArea(f) > 0)
+      missed.push_back(f);
   }
   if (!missed.empty()) {
     const MeshQuery predQuery(pred.mesh);
@@ -210,7 +217,8 @@ LabelTransfer transferLabels(const LabelledMesh& truth, const LabelledMesh& pred
       const int f = missed[i];
       centroid.row(static_cast<Eigen::Index>(i)) =
           (truth.mesh.V.row(truth.mesh.F(f, 0)) + truth.mesh.V.row(truth.mesh.F(f, 1)) +
-           truth.mesh.V.row(truth.mesh.F(f, 2))) / 3.0;
+           truth.mesh.V.row(truth.mesh.F(f, 2))) /
+          3.0;
     }
     const std::vector<ClosestHit> back = predQuery.closestPoints(centroid);
     out.numSamples += static_cast<int>(back.size());

@@ -18,7 +18,8 @@ struct LabelledMesh {
 
 // Face labels from vertex labels: each face takes the label held by at least two of its
 // corners; when all three differ, the smallest code. Labels out of range → InputError.
-Eigen::VectorXi faceLabelsFromVertexLabels(const Eigen::MatrixX3i& F, const Eigen::VectorXi& vertexLabel);
+Eigen::VectorXi faceLabelsFromVertexLabels(const Eigen::MatrixX3i& F,
+                                           const Eigen::VectorXi& vertexLabel);
 
 // Reads a PLY with a face "label" property; when it has only vertex labels, faces take the
 // majority vertex label (faceLabelsFromVertexLabels). Missing file → IoError; no labels at
@@ -31,18 +32,18 @@ LabelledMesh readLabelledMesh(const std::filesystem::path& path);
 void validateLabelledMesh(const LabelledMesh& m, const std::string& what);
 
 struct LabelTransferOptions {
-  int subdivisionLevels = 2;   // midpoint subdivisions of a straddling predicted face: 4^levels
-                               // samples (0: the whole face goes where its centroid lands)
-  double maxDistance = 0.01;   // m: a sample farther than this from the truth surface is "off"
+  int subdivisionLevels = 2;     // midpoint subdivisions of a straddling predicted face: 4^levels
+                                 // samples (0: the whole face goes where its centroid lands)
+  double maxDistance = 0.01;     // m: a sample farther than this from the truth surface is "off"
   double maxOffFraction = 0.05;  // more predicted area than this fraction off → InputError
 };
 
 struct LabelTransfer {
-  Eigen::MatrixXd area;      // #F_truth × kNumLabels: predicted area of each label in each face
-  bool identity = false;     // same faces and vertices (within 1 µm); no sampling needed
-  int numSamples = 0;        // closest-point queries made (centroids, sub-triangles, fallbacks)
-  int unlabelledFaces = 0;   // truth faces no sample reached and no predicted face is near
-  double offFraction = 0;    // fraction of predicted area whose centroid is beyond maxDistance
+  Eigen::MatrixXd area;     // #F_truth × kNumLabels: predicted area of each label in each face
+  bool identity = false;    // same faces and vertices (within 1 µm); no sampling needed
+  int numSamples = 0;       // closest-point queries made (centroids, sub-triangles, fallbacks)
+  int unlabelledFaces = 0;  // truth faces no sample reached and no predicted face is near
+  double offFraction = 0;   // fraction of predicted area whose centroid is beyond maxDistance
   double maxSampleDistance = 0;  // m, largest sample-to-truth distance
 };
 

@@ -2,6 +2,7 @@
 // and missing or foreign inputs get their exit codes.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -9,7 +10,6 @@
 #include <numbers>
 #include <string>
 #include <vector>
-#include <sys/wait.h>
 
 #include "core/shapes.h"
 #include "io/write_mesh.h"
@@ -126,8 +126,8 @@ TEST(EvalCli, MissingOrForeignInputsGetTheirExitCodes) {
   EXPECT_NE(r.out.find("segmentation.ply"), std::string::npos) << r.out;
   r = runApp({"eval", "--truth", dir / "no_truth.json", "--pred", dir / "labels.ply"});
   EXPECT_EQ(r.code, 3) << r.out;
-  r = runApp({"eval", "--truth", truth, "--pred", dir / "labels.ply", "--body",
-              dir / "no_body.json"});
+  r = runApp(
+      {"eval", "--truth", truth, "--pred", dir / "labels.ply", "--body", dir / "no_body.json"});
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_EQ(runApp({"eval", "--pred", dir / "labels.ply"}).code, 2);  // --truth required
 

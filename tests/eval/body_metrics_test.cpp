@@ -16,9 +16,9 @@ TEST(BodyMetrics, KnownOffsetsGiveExactMeanAndMax) {
                         {"head", {0.0, 1.6, 0.05}},
                         {"left_wrist", {0.3, 0.9, 0.0}},
                         {"right_ankle", {-0.1, 0.08, 0.0}}};
-  pred["canonical"] = {{"pelvis", {0.0, 1.0, 0.0}},             // 0
-                       {"head", {0.003, 1.6, 0.054}},           // 3-4-5: 5 mm
-                       {"left_wrist", {0.3, 0.912, 0.0}},       // 12 mm
+  pred["canonical"] = {{"pelvis", {0.0, 1.0, 0.0}},        // 0
+                       {"head", {0.003, 1.6, 0.054}},      // 3-4-5: 5 mm
+                       {"left_wrist", {0.3, 0.912, 0.0}},  // 12 mm
                        {"not_in_truth", {9.0, 9.0, 9.0}}};
   const BodyScore s = compareBodies(truth, pred);
   EXPECT_EQ(s.count, 3);

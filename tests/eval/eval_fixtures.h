@@ -16,7 +16,7 @@
 namespace s2p::test {
 
 struct CylinderSpec {
-  int rings = 100, segments = 64;   // ring spacing 1 cm
+  int rings = 100, segments = 64;  // ring spacing 1 cm
   double radius = 0.15, height = 1.0;
 };
 
@@ -111,8 +111,8 @@ inline TriMesh concatenate(const TriMesh& a, const TriMesh& b) {
 // The cylinder cut exactly at y = c into two separate pieces (the seam's vertices duplicated),
 // the lower piece labelled skin and the upper one upper.
 inline LabelledMesh cutCylinder(const CylinderSpec& spec, double c) {
-  const TriMesh split = splitAtHeight(makeCylinder(spec.rings, spec.segments, spec.radius,
-                                                   spec.height), c);
+  const TriMesh split =
+      splitAtHeight(makeCylinder(spec.rings, spec.segments, spec.radius, spec.height), c);
   const TriMesh lower = cutByPlane(split, Eigen::Vector3d::UnitY(), c);
   const TriMesh upper = cutByPlane(split, -Eigen::Vector3d::UnitY(), -c);
   LabelledMesh lm;

@@ -80,7 +80,8 @@ TEST(Evaluation, ShiftedPredictionGivesKnownDistanceAndIoU) {
   pred.faceLabel = test::labelsByHeight(pred.mesh, kH + kD);
   const std::vector<TrueBoundary> curves{test::circleAt(c.spec, kH + kD)};
   const double top = c.spec.height;
-  for (const std::vector<TrueBoundary>* given : {&curves, static_cast<const std::vector<TrueBoundary>*>(nullptr)}) {
+  for (const std::vector<TrueBoundary>* given :
+       {&curves, static_cast<const std::vector<TrueBoundary>*>(nullptr)}) {
     const Evaluation e = c.run(pred, given);
     const BoundaryScore& b = e.boundaries.at(0);
     ASSERT_FALSE(b.missing);

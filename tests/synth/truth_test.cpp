@@ -121,10 +121,16 @@ TEST(Truth, MalformedEntriesAreFormatErrors) {
   expectFormatError([](auto& j) { j["seed"] = "many"; }, "seed");
   expectFormatError([](auto& j) { j["garments"][1]["label"] = "sleeve"; }, "garment 1");
   expectFormatError([](auto& j) { j["boundaries"][0]["labels"] = {"upper"}; }, "boundary 0");
-  expectFormatError([](auto& j) { j["boundaries"][0]["labels"] = {"upper", "upper"}; },
-                    "boundary 0");
-  expectFormatError([](auto& j) { j["boundaries"][0]["curves"][0]["points"][2] = {1.0, 2.0}; },
-                    "point 2 of curve 0 of boundary 0");
+  expectFormatError(
+      [](auto& j) {
+        j["boundaries"][0]["labels"] = {"upper", "upper"};
+      },
+      "boundary 0");
+  expectFormatError(
+      [](auto& j) {
+        j["boundaries"][0]["curves"][0]["points"][2] = {1.0, 2.0};
+      },
+      "point 2 of curve 0 of boundary 0");
   expectFormatError([](auto& j) { j["boundaries"][0]["curves"][1].erase("closed"); },
                     "curve 1 of boundary 0");
   expectFormatError([](auto& j) { j = nlohmann::json::array(); }, "preset");
