@@ -26,7 +26,7 @@ struct ValueConstraint {
 };
 
 struct BiharmonicOptions {
-  double penaltyWeight = 1e3;  // w relative to the mean diagonal of L M⁻¹ L
+  double penaltyWeight = 1e6;  // w relative to the mean diagonal of L M⁻¹ L
   int maxMultiplierUpdates = 30;
   double tolerance = 1e-9;     // max |Cu − v| (in units of the constraint values)
 };
