@@ -15,8 +15,8 @@ using Sparse = Eigen::SparseMatrix<double>;
 struct Biharmonic::Impl {
   TriMesh mesh;
   BiharmonicOptions options;
-  Sparse Q;         // L M⁻¹ L + εM, with explicit zeros on every face pair
-  double w = 0;     // penalty weight
+  Sparse Q;      // L M⁻¹ L + εM, with explicit zeros on every face pair
+  double w = 0;  // penalty weight
   SpdSolver solver;
   bool analysed = false;
   BiharmonicStats stats;
@@ -26,8 +26,9 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
     : impl_(std::make_unique<Impl>()) {
   validateMesh(mesh, "biharmonic mesh");
   if (!(options.penaltyWeight > 0) || options.maxMultiplierUpdates < 1 || !(options.tolerance > 0))
-    throw InputError("biharmonic: penaltyWeight and tolerance must be positive and "
-                     "maxMultiplierUpdates at least 1");
+    throw InputError(
+        "biharmonic: penaltyWeight and tolerance must be positive and "
+        "maxMultiplierUpdates at least 1");
   Impl& d = *impl_;
   d.mesh = mesh;
   d.options = options;
@@ -55,7 +56,9 @@ Biharmonic::~Biharmonic() = default;
 Biharmonic::Biharmonic(Biharmonic&&) noexcept = default;
 Biharmonic& Biharmonic::operator=(Biharmonic&&) noexcept = default;
 
-const BiharmonicStats& Biharmonic::lastStats() const { return impl_->stats; }
+const BiharmonicStats& Biharmonic::lastStats() const {
+  return impl_->stats;
+}
 
 Eigen::VectorXd Biharmonic::solve(const std::vector<ValueConstraint>& constraints) {
   Impl& d = *impl_;

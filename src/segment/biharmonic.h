@@ -28,12 +28,12 @@ struct ValueConstraint {
 struct BiharmonicOptions {
   double penaltyWeight = 1e6;  // w relative to the mean diagonal of L M⁻¹ L
   int maxMultiplierUpdates = 30;
-  double tolerance = 1e-9;     // max |Cu − v| (in units of the constraint values)
+  double tolerance = 1e-9;  // max |Cu − v| (in units of the constraint values)
 };
 
 struct BiharmonicStats {
   int multiplierUpdates = 0;
-  double maxResidual = 0;  // max |Cu − v| reached
+  double maxResidual = 0;   // max |Cu − v| reached
   bool refactored = false;  // numeric refactorisation only (symbolic analysis reused)
 };
 

@@ -72,8 +72,9 @@ BoundaryOptimizer::BoundaryOptimizer(const TriMesh& mesh, const BoundaryOptions&
   validateMesh(mesh, "boundary optimisation mesh");
   if (!(options.alpha > 0) || !(options.beta >= 0) || options.maxIterations < 1 ||
       !(options.tolerance > 0) || !std::isfinite(options.alpha) || !std::isfinite(options.beta))
-    throw InputError("boundary optimisation: alpha > 0 (m), beta ≥ 0 (m²), maxIterations ≥ 1 "
-                     "and tolerance > 0 (m²) are required");
+    throw InputError(
+        "boundary optimisation: alpha > 0 (m), beta ≥ 0 (m²), maxIterations ≥ 1 "
+        "and tolerance > 0 (m²) are required");
   impl_ = std::make_unique<Impl>(mesh, options);
   Impl& d = *impl_;
   d.area = vertexAreas(mesh);
@@ -94,13 +95,15 @@ Eigen::VectorXd BoundaryOptimizer::initialImplicit(
   for (const auto& s : splines)
     for (const auto& p : s) zeros.push_back({p, 0.0});
   if (zeros.empty())
-    throw InputError("boundary optimisation: the initial splines have no points (every anchor "
-                     "removed?)");
+    throw InputError(
+        "boundary optimisation: the initial splines have no points (every anchor "
+        "removed?)");
   Impl& d = *impl_;
   const Eigen::VectorXd phi = d.signedFromBiharmonic(d.solveBiharmonic(zeros, signs));
   if (phi.size() == 0)
-    throw InputError("boundary optimisation: the initial implicit function has no zero "
-                     "isoline; check that sign points of both signs surround the splines");
+    throw InputError(
+        "boundary optimisation: the initial implicit function has no zero "
+        "isoline; check that sign points of both signs surround the splines");
   return phi;
 }
 
@@ -120,9 +123,8 @@ BoundaryResult BoundaryOptimizer::run(const std::vector<std::vector<SurfacePoint
   Impl& d = *impl_;
   const int nV = d.mesh.numVertices();
   if (phiD.size() != nV || !phiD.allFinite())
-    throw InputError("boundary optimisation: the displacement has " +
-                     std::to_string(phiD.size()) + " values for " + std::to_string(nV) +
-                     " vertices or is not finite");
+    throw InputError("boundary optimisation: the displacement has " + std::to_string(phiD.size()) +
+                     " values for " + std::to_string(nV) + " vertices or is not finite");
   bool pos = false, neg = false;
   for (const auto& s : signs) {
     pos |= s.value > 0;
@@ -139,8 +141,9 @@ BoundaryResult BoundaryOptimizer::run(const std::vector<std::vector<SurfacePoint
   const Eigen::VectorXd step = d.options.alpha * phiD;
   for (int it = 0; it < d.options.maxIterations; ++it) {
     auto t1 = std::chrono::steady_clock::now();
-    const Eigen::VectorXd tilde = phi + step;                                        // Eq. (3)
-    const Eigen::VectorXd bar = d.regulariser.solve(Eigen::VectorXd(d.area.cwiseProduct(tilde)));  // Eq. (4)
+    const Eigen::VectorXd tilde = phi + step;  // Eq. (3)
+    const Eigen::VectorXd bar =
+        d.regulariser.solve(Eigen::VectorXd(d.area.cwiseProduct(tilde)));  // Eq. (4)
     d.timings.regularisation += secondsSince(t1);
     Eigen::VectorXd next = recomputeImplicit(bar, signs);
     r.iterations = it + 1;

@@ -27,8 +27,8 @@
 namespace s2p {
 
 struct BoundaryOptions {
-  double alpha = 0.01;      // m of boundary motion per iteration, Eq. (3)
-  double beta = 2.5e-5;     // m², length regularisation time, Eq. (4) (√β = 5 mm)
+  double alpha = 0.01;   // m of boundary motion per iteration, Eq. (3)
+  double beta = 2.5e-5;  // m², length regularisation time, Eq. (4) (√β = 5 mm)
   int maxIterations = 200;
   double tolerance = 1e-6;  // m²: stop when ∫(φᵢ₊₁ − φᵢ)² dA / A falls below (1 mm RMS)
   HeatDistanceOptions heat;
@@ -46,12 +46,12 @@ struct BoundaryTimings {
 };
 
 struct BoundaryResult {
-  Eigen::VectorXd phi;        // #V, final signed distance (m), > 0 on the positive side
-  Isoline initial;            // zero isoline of φ₀
-  Isoline boundary;           // zero isoline of the final φ: the optimised boundary
+  Eigen::VectorXd phi;  // #V, final signed distance (m), > 0 on the positive side
+  Isoline initial;      // zero isoline of φ₀
+  Isoline boundary;     // zero isoline of the final φ: the optimised boundary
   int iterations = 0;
-  bool converged = false;     // change fell below tolerance within maxIterations
-  bool vanished = false;      // the zero set disappeared (one side swallowed the mesh)
+  bool converged = false;       // change fell below tolerance within maxIterations
+  bool vanished = false;        // the zero set disappeared (one side swallowed the mesh)
   std::vector<double> changes;  // per iteration, m²
   BoundaryTimings timings;
 };

@@ -1,12 +1,11 @@
 #include "segment/colour_model.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <string>
-
-#include <Eigen/Cholesky>
 
 #include "core/colour.h"
 #include "core/error.h"
@@ -67,7 +66,8 @@ GaussianMixture fitFixedK(const Eigen::MatrixX3d& X, int k, const GmmOptions& o)
   for (int it = 0; it < o.maxIterations; ++it) {
     // E step.
     for (int c = 0; c < k; ++c)
-      logR.col(c) = logGaussian(X, g.means.row(c), g.covariances[c]).array() + std::log(g.weights[c]);
+      logR.col(c) =
+          logGaussian(X, g.means.row(c), g.covariances[c]).array() + std::log(g.weights[c]);
     double ll = 0;
     for (int i = 0; i < n; ++i) {
       const double lse = logSumExp(logR.row(i).transpose());
@@ -117,8 +117,9 @@ GaussianMixture fitGaussianMixture(const Eigen::MatrixX3d& X, const GmmOptions& 
   if (X.rows() == 0) throw InputError("colour model: no samples to fit (a region with no points)");
   if (!X.allFinite()) throw InputError("colour model: a sample colour is not finite");
   if (o.components < 0 || o.maxComponents < 1 || !(o.covarianceFloor > 0) || o.maxIterations < 1)
-    throw InputError("colour model: components ≥ 0, maxComponents ≥ 1, maxIterations ≥ 1 and "
-                     "covarianceFloor > 0 are required");
+    throw InputError(
+        "colour model: components ≥ 0, maxComponents ≥ 1, maxIterations ≥ 1 and "
+        "covarianceFloor > 0 are required");
   const int n = static_cast<int>(X.rows());
   if (o.components > 0) {
     if (n < o.components)
@@ -182,11 +183,12 @@ ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3
   if (srgb.rows() != mesh.numVertices() || !srgb.allFinite())
     throw InputError("colour model: the scan needs one finite sRGB colour per vertex (" +
                      std::to_string(srgb.rows()) + " colours for " +
-                     std::to_string(mesh.numVertices()) + " vertices); a scan without colour "
+                     std::to_string(mesh.numVertices()) +
+                     " vertices); a scan without colour "
                      "cannot be segmented by colour");
   ColourDisplacement out;
-  out.lab = srgbToLab(smoothVertexColours(mesh, srgb, options.smoothingLength,
-                                          options.smoothingSteps));
+  out.lab =
+      srgbToLab(smoothVertexColours(mesh, srgb, options.smoothingLength, options.smoothingSteps));
   std::vector<bool> positive;
   for (size_t r = 0; r < regions.size(); ++r) {
     const ColourRegion& region = regions[r];

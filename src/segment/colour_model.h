@@ -24,12 +24,12 @@ Eigen::MatrixX3d smoothVertexColours(const TriMesh& mesh, const Eigen::MatrixX3d
 // === Gaussian mixture in CIELAB
 
 struct GmmOptions {
-  int components = 0;      // fixed k ≥ 1, or 0: k in 1..maxComponents with the lowest BIC
+  int components = 0;  // fixed k ≥ 1, or 0: k in 1..maxComponents with the lowest BIC
   int maxComponents = 3;
   int maxIterations = 300;
-  double tolerance = 1e-7;  // stop when the mean log-likelihood gains less than this
+  double tolerance = 1e-7;       // stop when the mean log-likelihood gains less than this
   double covarianceFloor = 1.0;  // added to every covariance's diagonal, (ΔE)²
-  std::uint64_t seed = 1;   // k-means++ initialisation
+  std::uint64_t seed = 1;        // k-means++ initialisation
 };
 
 struct GaussianMixture {
@@ -71,9 +71,9 @@ struct ColourModelOptions {
 };
 
 struct ColourDisplacement {
-  Eigen::VectorXd phiD;                  // #V, in [−1, 1]
-  Eigen::MatrixX3d lab;                  // #V×3, smoothed colours in CIELAB
-  std::vector<GaussianMixture> models;   // one per region
+  Eigen::VectorXd phiD;                 // #V, in [−1, 1]
+  Eigen::MatrixX3d lab;                 // #V×3, smoothed colours in CIELAB
+  std::vector<GaussianMixture> models;  // one per region
 };
 
 // srgb: #V×3 in [0, 1]. Throws InputError for a colour matrix of the wrong size or non-finite,

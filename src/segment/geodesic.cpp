@@ -54,8 +54,12 @@ HeatDistance::~HeatDistance() = default;
 HeatDistance::HeatDistance(HeatDistance&&) noexcept = default;
 HeatDistance& HeatDistance::operator=(HeatDistance&&) noexcept = default;
 
-double HeatDistance::heatTime() const { return impl_->t; }
-int HeatDistance::numVertices() const { return impl_->mesh.numVertices(); }
+double HeatDistance::heatTime() const {
+  return impl_->t;
+}
+int HeatDistance::numVertices() const {
+  return impl_->mesh.numVertices();
+}
 
 Eigen::VectorXd HeatDistance::distance(const Isoline& curve) const {
   const Impl& d = *impl_;

@@ -59,11 +59,12 @@ Isoline extractIsoline(const TriMesh& mesh, const MeshTopology& topology,
   std::vector<int> outFace(nE, -1), inFace(nE, -1);  // face whose segment leaves / enters edge e
   std::vector<int> segEnd(nF, -1);                   // edge where the segment of face f ends
   for (int f = 0; f < nF; ++f) {
-    const bool s0 = positive(mesh.F(f, 0)), s1 = positive(mesh.F(f, 1)), s2 = positive(mesh.F(f, 2));
+    const bool s0 = positive(mesh.F(f, 0)), s1 = positive(mesh.F(f, 1)),
+               s2 = positive(mesh.F(f, 2));
     if (s0 == s1 && s1 == s2) continue;
     const int k = (s0 != s1 && s0 != s2) ? 0 : (s1 != s0 && s1 != s2) ? 1 : 2;  // lone corner
-    const int eNext = FE(f, (k + 2) % 3);  // edge (k, k+1)
-    const int ePrev = FE(f, (k + 1) % 3);  // edge (k+2, k)
+    const int eNext = FE(f, (k + 2) % 3);                                       // edge (k, k+1)
+    const int ePrev = FE(f, (k + 1) % 3);                                       // edge (k+2, k)
     const bool loneNegative = !positive(mesh.F(f, k));
     const int from = loneNegative ? eNext : ePrev, to = loneNegative ? ePrev : eNext;
     for (int e : {from, to})

@@ -36,8 +36,7 @@ class PartBuilder {
     part.mesh.V.resize(static_cast<int>(origin_.size()), 3);
     for (size_t i = 0; i < origin_.size(); ++i) {
       const VertexOrigin& o = origin_[i];
-      part.mesh.V.row(static_cast<int>(i)) =
-          (1 - o.t) * mesh_.V.row(o.a) + o.t * mesh_.V.row(o.b);
+      part.mesh.V.row(static_cast<int>(i)) = (1 - o.t) * mesh_.V.row(o.a) + o.t * mesh_.V.row(o.b);
     }
     part.mesh.F.resize(static_cast<int>(faces_.size()), 3);
     part.faceOrigin.resize(static_cast<int>(faces_.size()));

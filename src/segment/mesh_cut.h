@@ -24,7 +24,7 @@ struct VertexOrigin {
 // One side of the cut: a mesh whose faces each lie inside one original face.
 struct CutPart {
   TriMesh mesh;
-  Eigen::VectorXi faceOrigin;         // #F of the part: index of the original face
+  Eigen::VectorXi faceOrigin;              // #F of the part: index of the original face
   std::vector<VertexOrigin> vertexOrigin;  // #V of the part
 };
 

@@ -13,11 +13,16 @@ namespace s2p {
 
 const char* toString(ProjectionStatus status) {
   switch (status) {
-    case ProjectionStatus::Ok: return "ok";
-    case ProjectionStatus::NoHit: return "no ray hit";
-    case ProjectionStatus::HitBody: return "ray hits the body first";
-    case ProjectionStatus::OppositeNormals: return "opposite normals";
-    case ProjectionStatus::TooFar: return "projection too far";
+    case ProjectionStatus::Ok:
+      return "ok";
+    case ProjectionStatus::NoHit:
+      return "no ray hit";
+    case ProjectionStatus::HitBody:
+      return "ray hits the body first";
+    case ProjectionStatus::OppositeNormals:
+      return "opposite normals";
+    case ProjectionStatus::TooFar:
+      return "projection too far";
   }
   return "?";
 }
@@ -51,8 +56,7 @@ FeatureProjector::FeatureProjector(const TriMesh& body, const TriMesh& scan,
       (sb.min.array() > bb.max.array() + margin).any())
     throw InputError("feature projection: the body does not overlap the scan (body box " +
                      std::to_string(bb.centre().x()) + ", " + std::to_string(bb.centre().y()) +
-                     ", " + std::to_string(bb.centre().z()) +
-                     "); fit the body to this scan first");
+                     ", " + std::to_string(bb.centre().z()) + "); fit the body to this scan first");
   impl_ = std::make_unique<Impl>(body, scan, options);
   impl_->bodyNormals = vertexNormals(body);
   impl_->scanNormals = vertexNormals(scan);
@@ -129,11 +133,10 @@ std::vector<SurfacePoint> FeatureProjector::projectSpline(const std::vector<Surf
   for (const auto& p : project(anchors))
     if (p.ok()) kept.push_back(p.point);
   if (static_cast<int>(kept.size()) < std::max(1, minAnchors))
-    throw InputError("feature projection: spline '" + name + "' keeps " +
-                     std::to_string(kept.size()) + " of " + std::to_string(anchors.size()) +
-                     " anchors after removing ill-projected points (at least " +
-                     std::to_string(std::max(1, minAnchors)) +
-                     " needed); check the body fit against the scan");
+    throw InputError(
+        "feature projection: spline '" + name + "' keeps " + std::to_string(kept.size()) + " of " +
+        std::to_string(anchors.size()) + " anchors after removing ill-projected points (at least " +
+        std::to_string(std::max(1, minAnchors)) + " needed); check the body fit against the scan");
   return kept;
 }
 

@@ -44,10 +44,9 @@ TEST(Biharmonic, RingOfZerosOnCylinderGivesThatRingAsZeroIsoline) {
 TEST(Biharmonic, ConstraintInsideAFaceIsMetTo1e6AndRefactorReusesAnalysis) {
   const TriMesh s = makeIcosphere(3);
   Biharmonic b(s);
-  const std::vector<ValueConstraint> c1 = {
-      {SurfacePoint{7, {0.2, 0.3, 0.5}}, 0.0},
-      {SurfacePoint{100, {0.6, 0.1, 0.3}}, 1.0},
-      {SurfacePoint{250, {1.0 / 3, 1.0 / 3, 1.0 / 3}}, -1.0}};
+  const std::vector<ValueConstraint> c1 = {{SurfacePoint{7, {0.2, 0.3, 0.5}}, 0.0},
+                                           {SurfacePoint{100, {0.6, 0.1, 0.3}}, 1.0},
+                                           {SurfacePoint{250, {1.0 / 3, 1.0 / 3, 1.0 / 3}}, -1.0}};
   const Eigen::VectorXd phi = b.solve(c1);
   for (const auto& c : c1) EXPECT_NEAR(c.point.interpolate(s.F, phi), c.value, 1e-6);
   EXPECT_FALSE(b.lastStats().refactored);

@@ -30,8 +30,8 @@ std::vector<SurfacePoint> ring(const MeshQuery& q, double cx, double y, double r
 }
 
 // Sign points at height y around the axis (cx, ·, 0).
-void addSigns(std::vector<ValueConstraint>& out, const MeshQuery& q, double cx, double y,
-              double r, double value) {
+void addSigns(std::vector<ValueConstraint>& out, const MeshQuery& q, double cx, double y, double r,
+              double value) {
   for (int i = 0; i < 4; ++i) {
     const double a = M_PI / 2 * i;
     out.push_back({closest(q, {cx + r * std::cos(a), y, r * std::sin(a)}), value});
@@ -69,7 +69,8 @@ CylinderCase twoColourCylinder(int rings, int segments, double s) {
   c.splines = {ring(q, 0, 0.45 * s, 0.1 * s, 12)};
   addSigns(c.signs, q, 0, 0.95 * s, 0.1 * s, 1.0);
   addSigns(c.signs, q, 0, 0.05 * s, 0.1 * s, -1.0);
-  c.phiD = twoColourDisplacement(c.mesh, [s](double y) { return y >= 0.3 * s; }, 0.3 * s);
+  c.phiD = twoColourDisplacement(
+      c.mesh, [s](double y) { return y >= 0.3 * s; }, 0.3 * s);
   return c;
 }
 
@@ -98,7 +99,11 @@ TEST(BoundaryOptimizer, SameBoundaryAtTwoResolutionsAndScaledTwice_Slow) {
   const CylinderCase coarse = twoColourCylinder(91, 32, 1.0);
   const CylinderCase big = twoColourCylinder(137, 48, 2.0);
   const BoundaryOptions o;
-  const BoundaryOptions o2{.alpha = 2 * o.alpha, .beta = 4 * o.beta, .tolerance = 4 * o.tolerance, .heat = {}, .biharmonic = {}};
+  const BoundaryOptions o2{.alpha = 2 * o.alpha,
+                           .beta = 4 * o.beta,
+                           .tolerance = 4 * o.tolerance,
+                           .heat = {},
+                           .biharmonic = {}};
   const BoundaryResult rf = optimizeBoundary(fine.mesh, fine.splines, fine.signs, fine.phiD, o);
   const BoundaryResult rc =
       optimizeBoundary(coarse.mesh, coarse.splines, coarse.signs, coarse.phiD, o);
@@ -116,10 +121,11 @@ TEST(BoundaryOptimizer, TwoLegLoopsMergeIntoOneLoopAboveTheFork_Slow) {
   const std::vector<std::vector<SurfacePoint>> splines = {ring(q, 0.075, 0.38, 0.055, 10),
                                                           ring(q, -0.075, 0.38, 0.055, 10)};
   std::vector<ValueConstraint> signs;
-  addSigns(signs, q, 0.075, 0.1, 0.055, 1.0);   // "feet": skin side
+  addSigns(signs, q, 0.075, 0.1, 0.055, 1.0);  // "feet": skin side
   addSigns(signs, q, -0.075, 0.1, 0.055, 1.0);
-  addSigns(signs, q, 0, 0.95, 0.13, -1.0);      // trunk: garment side
-  const Eigen::VectorXd phiD = twoColourDisplacement(m, [](double y) { return y < 0.7; }, 0.7);
+  addSigns(signs, q, 0, 0.95, 0.13, -1.0);  // trunk: garment side
+  const Eigen::VectorXd phiD = twoColourDisplacement(
+      m, [](double y) { return y < 0.7; }, 0.7);
   const BoundaryResult r = optimizeBoundary(m, splines, signs, phiD);
   EXPECT_EQ(r.initial.curves.size(), 2u);
   EXPECT_TRUE(r.converged);
@@ -131,7 +137,7 @@ TEST(BoundaryOptimizer, TwoLegLoopsMergeIntoOneLoopAboveTheFork_Slow) {
 TEST(BoundaryOptimizer, BadInputThrowsInputError) {
   const CylinderCase c = twoColourCylinder(20, 12, 1.0);
   BoundaryOptimizer o(c.mesh);
-  EXPECT_THROW(o.run({}, c.signs, c.phiD), InputError);                       // no spline
+  EXPECT_THROW(o.run({}, c.signs, c.phiD), InputError);  // no spline
   EXPECT_THROW(o.run(c.splines, c.signs, Eigen::VectorXd::Zero(3)), InputError);
   const std::vector<ValueConstraint> onlyPositive(c.signs.begin(), c.signs.begin() + 4);
   EXPECT_THROW(o.run(c.splines, onlyPositive, c.phiD), InputError);

@@ -5,8 +5,8 @@
 #include <random>
 
 #include "core/colour.h"
-#include "core/laplacian.h"
 #include "core/error.h"
+#include "core/laplacian.h"
 #include "core/mesh_query.h"
 #include "core/shapes.h"
 
@@ -27,8 +27,8 @@ TEST(ColourModel, TwoColourCylinderGivesPlusAndMinusOneOnEachSide) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0, 0.02);
   for (int v = 0; v < cyl.numVertices(); ++v) {
-    const Eigen::RowVector3d base = cyl.V(v, 1) < 0.3 ? Eigen::RowVector3d(0.8, 0.1, 0.1)
-                                                      : Eigen::RowVector3d(0.1, 0.2, 0.8);
+    const Eigen::RowVector3d base =
+        cyl.V(v, 1) < 0.3 ? Eigen::RowVector3d(0.8, 0.1, 0.1) : Eigen::RowVector3d(0.1, 0.2, 0.8);
     rgb.row(v) = base + Eigen::RowVector3d(noise(rng), noise(rng), noise(rng));
   }
   const std::vector<ColourRegion> regions = {{pointsBetween(cyl, 0.6, 1.0), true},
@@ -112,8 +112,8 @@ TEST(ColourModel, BadInputThrowsInputError) {
   const std::vector<ColourRegion> ok = {{{SurfacePoint::atVertex(s.F, 0)}, true},
                                         {{SurfacePoint::atVertex(s.F, 1)}, false}};
   EXPECT_THROW(colourDisplacement(s, Eigen::MatrixX3d(0, 3), ok), InputError);  // no colour
-  EXPECT_THROW(colourDisplacement(s, rgb, {{{}, true}, ok[1]}), InputError);     // empty region
-  EXPECT_THROW(colourDisplacement(s, rgb, {ok[0]}), InputError);                 // one side only
+  EXPECT_THROW(colourDisplacement(s, rgb, {{{}, true}, ok[1]}), InputError);    // empty region
+  EXPECT_THROW(colourDisplacement(s, rgb, {ok[0]}), InputError);                // one side only
   EXPECT_THROW(fitGaussianMixture(Eigen::MatrixX3d(0, 3)), InputError);
 }
 

@@ -2,10 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/Geometry>
 
 #include "core/error.h"
 #include "core/shapes.h"

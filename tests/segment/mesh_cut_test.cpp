@@ -11,9 +11,11 @@ namespace {
 
 TEST(MeshCut, AreasOfTwoPartsSumToTheOriginal) {
   const TriMesh s = makeIcosphere(3);
-  const Eigen::VectorXd phi = s.V * Eigen::Vector3d(0.3, 1.0, -0.2) - Eigen::VectorXd::Constant(s.numVertices(), 0.17);
+  const Eigen::VectorXd phi =
+      s.V * Eigen::Vector3d(0.3, 1.0, -0.2) - Eigen::VectorXd::Constant(s.numVertices(), 0.17);
   const CutResult cut = cutAlongIsoline(s, phi);
-  const double a = surfaceArea(s), an = surfaceArea(cut.negative.mesh), ap = surfaceArea(cut.positive.mesh);
+  const double a = surfaceArea(s), an = surfaceArea(cut.negative.mesh),
+               ap = surfaceArea(cut.positive.mesh);
   EXPECT_NEAR(an + ap, a, 1e-12 * a);
   EXPECT_GT(an, 0.3 * a);
   EXPECT_GT(ap, 0.3 * a);
@@ -28,7 +30,8 @@ TEST(MeshCut, AreasOfTwoPartsSumToTheOriginal) {
 
 TEST(MeshCut, VertexOriginsReproducePositionsAndFacesLieInTheirOriginalFace) {
   const TriMesh s = makeIcosphere(3);
-  const Eigen::VectorXd phi = s.V.col(0) + 0.5 * s.V.col(2) - Eigen::VectorXd::Constant(s.numVertices(), 0.2);
+  const Eigen::VectorXd phi =
+      s.V.col(0) + 0.5 * s.V.col(2) - Eigen::VectorXd::Constant(s.numVertices(), 0.2);
   const CutResult cut = cutAlongIsoline(s, phi);
   for (const CutPart* part : {&cut.negative, &cut.positive}) {
     for (int v = 0; v < part->mesh.numVertices(); ++v) {
@@ -40,10 +43,13 @@ TEST(MeshCut, VertexOriginsReproducePositionsAndFacesLieInTheirOriginalFace) {
       }
     }
     for (int f = 0; f < part->mesh.numFaces(); ++f) {
-      const Eigen::Vector3d c = (part->mesh.V.row(part->mesh.F(f, 0)) + part->mesh.V.row(part->mesh.F(f, 1)) +
-                                 part->mesh.V.row(part->mesh.F(f, 2))) / 3;
+      const Eigen::Vector3d c =
+          (part->mesh.V.row(part->mesh.F(f, 0)) + part->mesh.V.row(part->mesh.F(f, 1)) +
+           part->mesh.V.row(part->mesh.F(f, 2))) /
+          3;
       const int g = part->faceOrigin[f];
-      const Eigen::Vector3d b = planeBarycentric(c, s.V.row(s.F(g, 0)), s.V.row(s.F(g, 1)), s.V.row(s.F(g, 2)));
+      const Eigen::Vector3d b =
+          planeBarycentric(c, s.V.row(s.F(g, 0)), s.V.row(s.F(g, 1)), s.V.row(s.F(g, 2)));
       EXPECT_GT(b.minCoeff(), -1e-12);
     }
   }

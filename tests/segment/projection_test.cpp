@@ -64,7 +64,8 @@ TEST(FeatureProjection, Rule2RayHitsTheBodyFirst) {
 
 TEST(FeatureProjection, Rule3OppositeNormals) {
   // p lands on a flipped patch below (normal −z); the ray reaches the garment above (+z).
-  const TriMesh scan = join(sheet(-0.5, 0.5, -0.5, 0.5, 0.02), sheet(0.01, 0.2, -0.2, 0.2, -0.012, true));
+  const TriMesh scan =
+      join(sheet(-0.5, 0.5, -0.5, 0.5, 0.02), sheet(0.01, 0.2, -0.2, 0.2, -0.012, true));
   const FeatureProjector proj(kBody, scan, kOptions);
   const ProjectedPoint p = proj.project(featureAt(kBody));
   EXPECT_NEAR(p.p.z(), -0.012, 1e-9);

@@ -4,7 +4,6 @@
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 
@@ -67,8 +66,8 @@ TriMesh makeTrousers(double voxel) {
   }
   double volume = 0;  // outward orientation: positive enclosed volume
   for (int i = 0; i < m.numFaces(); ++i)
-    volume += m.V.row(m.F(i, 0)).dot(Eigen::Vector3d(m.V.row(m.F(i, 1)))
-                                         .cross(Eigen::Vector3d(m.V.row(m.F(i, 2)))));
+    volume += m.V.row(m.F(i, 0)).dot(
+        Eigen::Vector3d(m.V.row(m.F(i, 1))).cross(Eigen::Vector3d(m.V.row(m.F(i, 2)))));
   if (volume < 0) m.F.col(1).swap(m.F.col(2));
   return m;
 }
