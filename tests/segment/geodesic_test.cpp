@@ -88,5 +88,13 @@ TEST(HeatDistance, EmptyCurveOrWrongSignSizeThrows) {
   EXPECT_THROW(heat.signedDistance(extractIsoline(s, field), Eigen::VectorXd::Ones(3)), InputError);
 }
 
+TEST(HeatDistance, OneShotEqualsTheSolverObject) {
+  const TriMesh s = makeIcosphere(3);
+  const Eigen::VectorXd field = minus(s.V.col(2), -0.1);
+  const Eigen::VectorXd a = signedDistanceFromZeroSet(s, field);
+  const Eigen::VectorXd b = HeatDistance(s).signedDistance(extractIsoline(s, field), field);
+  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 }  // namespace
 }  // namespace s2p

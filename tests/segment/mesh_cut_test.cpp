@@ -94,5 +94,15 @@ TEST(MeshCut, CylinderCutBetweenRingsHasExactAreaBelow) {
   EXPECT_NEAR(cut.isoline.length(), segments * chord, 1e-12);
 }
 
+TEST(MeshCut, ZeroAtVerticesCountsAsPositiveAndKeepsAreasExact) {
+  const TriMesh g = makeGrid(10, 6, 1.0, 1.0);
+  const Eigen::VectorXd phi = g.V.col(0) - Eigen::VectorXd::Constant(g.numVertices(), 0.5);
+  const CutResult cut = cutAlongIsoline(g, phi);  // column x = 0.5 is exactly zero
+  EXPECT_NEAR(surfaceArea(cut.negative.mesh), 0.5, 1e-12);
+  EXPECT_NEAR(surfaceArea(cut.positive.mesh), 0.5, 1e-12);
+  EXPECT_LE(cut.negative.mesh.V.col(0).maxCoeff(), 0.5 + 1e-15);
+  EXPECT_GE(cut.positive.mesh.V.col(0).minCoeff(), 0.5 - 1e-15);
+}
+
 }  // namespace
 }  // namespace s2p
