@@ -1,7 +1,8 @@
 // One iteration of the faithful boundary optimiser (Algorithm 1) broken into its parts, on a
 // UV sphere of about 50k vertices (and 12k for scaling): factorisations built once, the
 // biharmonic solve (numeric refactorisation + constrained solves), the heat-method distance, the
-// isoline, and one whole iteration (isoline → biharmonic → isoline → signed distance).
+// isoline, one whole iteration (isoline → biharmonic → isoline → signed distance), and whole
+// runs of the faithful and the fast path.
 //   OPENBLAS_NUM_THREADS=1 build/bench/segment_bench --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
 
@@ -101,6 +102,42 @@ void BM_Iteration(benchmark::State& state) {  // Algorithm 1 lines 6–7 (the bu
   for (auto _ : state) benchmark::DoNotOptimize(o.recomputeImplicit(f, s).sum());
 }
 
+// A whole optimisation (setup excluded): start on the latitude y = 0.045 m, colour edge at
+// y = 0 (φ_d = ±1), α = 5 mm, so ≈ 9 iterations; range(1) = 1 faithful, 0 fast path.
+void BM_Run(benchmark::State& state) {
+  const TriMesh& m = sphere(static_cast<int>(state.range(0)));
+  BoundaryOptions options;
+  options.alpha = 0.005;
+  options.faithful = state.range(1) != 0;
+  BoundaryOptimizer o(m, options);
+  const MeshQuery q(m);
+  std::vector<SurfacePoint> ring;
+  const double r = std::sqrt(0.15 * 0.15 - 0.045 * 0.045);
+  for (int i = 0; i < 16; ++i) {
+    const double a = 2 * M_PI * i / 16;
+    const ClosestHit h = q.closestPoint(Eigen::Vector3d(r * std::cos(a), 0.045, r * std::sin(a)));
+    ring.push_back({h.face, h.bary});
+  }
+  Eigen::VectorXd phiD(m.numVertices());
+  for (int v = 0; v < m.numVertices(); ++v) phiD[v] = m.V(v, 1) >= 0 ? 1.0 : -1.0;
+  int iterations = 0;
+  double y = 0;
+  for (auto _ : state) {
+    const BoundaryResult res = o.run({ring}, signs(m), phiD);
+    iterations = res.iterations;
+    y = res.boundary.positions().col(1).mean();
+  }
+  state.counters["iterations"] = iterations;
+  state.counters["boundary_y_mm"] = 1000 * y;
+}
+
+BENCHMARK(BM_Run)
+    ->Args({12000, 1})
+    ->Args({12000, 0})
+    ->Args({50000, 1})
+    ->Args({50000, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK(BM_OptimizerSetup)->Arg(12000)->Arg(50000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_HeatFactorisation)->Arg(12000)->Arg(50000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Isoline)->Arg(12000)->Arg(50000)->Unit(benchmark::kMillisecond);

@@ -38,8 +38,8 @@ struct BoundaryOptimizer::Impl {
         heat(m, o.heat),
         biharmonic(m, o.biharmonic) {}
 
-  // Signed distance from the zero isoline of φ_b, signed by φ_b; components the curve misses
-  // get ±(largest finite distance) with φ_b's sign so the iteration stays finite.
+  // Signed distance from the zero isoline of φ_b (or of φ̄ on the fast path), signed by it;
+  // components the curve misses get ±(largest finite distance) so the iteration stays finite.
   Eigen::VectorXd signedFromBiharmonic(const Eigen::VectorXd& phiB) {
     auto t0 = std::chrono::steady_clock::now();
     const Isoline iso = extractIsoline(mesh, topology, phiB);
@@ -145,7 +145,8 @@ BoundaryResult BoundaryOptimizer::run(const std::vector<std::vector<SurfacePoint
     const Eigen::VectorXd bar =
         d.regulariser.solve(Eigen::VectorXd(d.area.cwiseProduct(tilde)));  // Eq. (4)
     d.timings.regularisation += secondsSince(t1);
-    Eigen::VectorXd next = recomputeImplicit(bar, signs);
+    Eigen::VectorXd next =
+        d.options.faithful ? recomputeImplicit(bar, signs) : d.signedFromBiharmonic(bar);
     r.iterations = it + 1;
     if (next.size() == 0) {
       r.vanished = true;

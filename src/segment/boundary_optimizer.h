@@ -31,6 +31,12 @@ struct BoundaryOptions {
   double beta = 2.5e-5;  // m², length regularisation time, Eq. (4) (√β = 5 mm)
   int maxIterations = 200;
   double tolerance = 1e-6;  // m²: stop when ∫(φᵢ₊₁ − φᵢ)² dA / A falls below (1 mm RMS)
+  // true: Algorithm 1 as written (biharmonic recomputed every iteration, the default). false:
+  // the fast variant — the signed distance is taken from the regularised isoline directly
+  // (signed by φ̄), skipping the biharmonic in the loop (φ₀ still uses it). Not the default
+  // until the suite shows it reaches the same boundaries (DESIGN.md, "A faithful path and a
+  // fast path").
+  bool faithful = true;
   HeatDistanceOptions heat;
   BiharmonicOptions biharmonic;
 };

@@ -126,12 +126,28 @@ TEST(BoundaryOptimizer, TwoLegLoopsMergeIntoOneLoopAboveTheFork_Slow) {
   addSigns(signs, q, 0, 0.95, 0.13, -1.0);  // trunk: garment side
   const Eigen::VectorXd phiD = twoColourDisplacement(
       m, [](double y) { return y < 0.7; }, 0.7);
-  const BoundaryResult r = optimizeBoundary(m, splines, signs, phiD);
-  EXPECT_EQ(r.initial.curves.size(), 2u);
-  EXPECT_TRUE(r.converged);
-  ASSERT_EQ(r.boundary.curves.size(), 1u);
-  EXPECT_TRUE(r.boundary.curves[0].closed);
-  for (const auto& p : r.boundary.curves[0].points) EXPECT_NEAR(p.position.y(), 0.7, 0.01);
+  for (const bool faithful : {true, false}) {  // the fast path changes topology too
+    BoundaryOptions o;
+    o.faithful = faithful;
+    const BoundaryResult r = optimizeBoundary(m, splines, signs, phiD, o);
+    EXPECT_EQ(r.initial.curves.size(), 2u);
+    EXPECT_TRUE(r.converged);
+    ASSERT_EQ(r.boundary.curves.size(), 1u) << faithful;
+    EXPECT_TRUE(r.boundary.curves[0].closed);
+    for (const auto& p : r.boundary.curves[0].points) EXPECT_NEAR(p.position.y(), 0.7, 0.01);
+  }
+}
+
+TEST(BoundaryOptimizer, FastPathReachesTheFaithfulBoundaryOnTheCylinder_Slow) {
+  const CylinderCase c = twoColourCylinder(137, 48, 1.0);
+  const BoundaryResult faithful = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD);
+  BoundaryOptions fastOptions;
+  fastOptions.faithful = false;
+  const BoundaryResult fast = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD, fastOptions);
+  ASSERT_TRUE(fast.converged);
+  ASSERT_EQ(fast.boundary.curves.size(), 1u);
+  EXPECT_NEAR(meanY(fast.boundary), meanY(faithful.boundary), 0.001);
+  EXPECT_LT(fast.timings.biharmonic, faithful.timings.biharmonic);  // only φ₀ uses it
 }
 
 TEST(BoundaryOptimizer, BadInputThrowsInputError) {
