@@ -1,0 +1,215 @@
+#include "segment/colour_model.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "core/colour.h"
+#include "core/error.h"
+#include "core/laplacian.h"
+#include "core/spd_solver.h"
+
+namespace s2p {
+
+namespace {
+
+constexpr double kLog2Pi = 1.8378770664093453;
+
+double logSumExp(const Eigen::VectorXd& a) {
+  const double m = a.maxCoeff();
+  if (!std::isfinite(m)) return m;
+  return m + std::log((a.array() - m).exp().sum());
+}
+
+// log N(x | μ, Σ) for every row, with Σ = LLᵀ.
+Eigen::VectorXd logGaussian(const Eigen::MatrixX3d& X, const Eigen::RowVector3d& mean,
+                            const Eigen::Matrix3d& cov) {
+  const Eigen::LLT<Eigen::Matrix3d> llt(cov);
+  const Eigen::Matrix3d Lm = llt.matrixL();
+  const double logDet = 2 * Lm.diagonal().array().log().sum();
+  const Eigen::MatrixXd centred = (X.rowwise() - mean).transpose();  // 3×N
+  const Eigen::MatrixXd z = Lm.triangularView<Eigen::Lower>().solve(centred);
+  return (-0.5 * (z.colwise().squaredNorm().array() + 3 * kLog2Pi + logDet)).transpose();
+}
+
+GaussianMixture fitFixedK(const Eigen::MatrixX3d& X, int k, const GmmOptions& o) {
+  const int n = static_cast<int>(X.rows());
+  std::mt19937_64 rng(o.seed);
+  // k-means++ seeding.
+  Eigen::MatrixX3d means(k, 3);
+  means.row(0) = X.row(std::uniform_int_distribution<int>(0, n - 1)(rng));
+  Eigen::VectorXd d2 = (X.rowwise() - means.row(0)).rowwise().squaredNorm();
+  for (int c = 1; c < k; ++c) {
+    const double total = d2.sum();
+    int pick = 0;
+    if (total > 0) {
+      double r = std::uniform_real_distribution<double>(0, total)(rng);
+      for (pick = 0; pick < n - 1 && r >= d2[pick]; ++pick) r -= d2[pick];
+    }
+    means.row(c) = X.row(pick);
+    d2 = d2.cwiseMin((X.rowwise() - means.row(c)).rowwise().squaredNorm());
+  }
+  const Eigen::Matrix3d floor = o.covarianceFloor * Eigen::Matrix3d::Identity();
+  const Eigen::RowVector3d mu = X.colwise().mean();
+  const Eigen::MatrixX3d Xc = X.rowwise() - mu;
+  const Eigen::Matrix3d globalCov = Xc.transpose() * Xc / std::max(1, n) + floor;
+
+  GaussianMixture g;
+  g.weights = Eigen::VectorXd::Constant(k, 1.0 / k);
+  g.means = means;
+  g.covariances.assign(k, globalCov);
+  Eigen::MatrixXd logR(n, k);
+  double prev = -std::numeric_limits<double>::infinity();
+  for (int it = 0; it < o.maxIterations; ++it) {
+    // E step.
+    for (int c = 0; c < k; ++c)
+      logR.col(c) =
+          logGaussian(X, g.means.row(c), g.covariances[c]).array() + std::log(g.weights[c]);
+    double ll = 0;
+    for (int i = 0; i < n; ++i) {
+      const double lse = logSumExp(logR.row(i).transpose());
+      logR.row(i).array() -= lse;
+      ll += lse;
+    }
+    g.logLikelihood = ll;
+    g.iterations = it + 1;
+    if (ll / n - prev / n < o.tolerance && it > 0) break;
+    prev = ll;
+    // M step.
+    const Eigen::MatrixXd R = logR.array().exp();
+    for (int c = 0; c < k; ++c) {
+      const double nk = R.col(c).sum();
+      if (nk < 1e-9) {  // an empty component: restart it on the worst-explained sample
+        int worst = 0;
+        logR.rowwise().maxCoeff().minCoeff(&worst);
+        g.means.row(c) = X.row(worst);
+        g.covariances[c] = globalCov;
+        g.weights[c] = 1.0 / n;
+        continue;
+      }
+      g.weights[c] = nk / n;
+      g.means.row(c) = (R.col(c).transpose() * X) / nk;
+      const Eigen::MatrixX3d d = X.rowwise() - g.means.row(c);
+      g.covariances[c] = (d.transpose() * R.col(c).asDiagonal() * d) / nk + floor;
+    }
+    g.weights /= g.weights.sum();
+  }
+  g.bic = -2 * g.logLikelihood + (10.0 * k - 1) * std::log(static_cast<double>(n));
+  return g;
+}
+
+}  // namespace
+
+Eigen::VectorXd GaussianMixture::logDensity(const Eigen::MatrixX3d& X) const {
+  const int k = components();
+  Eigen::MatrixXd l(X.rows(), k);
+  for (int c = 0; c < k; ++c)
+    l.col(c) = logGaussian(X, means.row(c), covariances[c]).array() + std::log(weights[c]);
+  Eigen::VectorXd out(X.rows());
+  for (int i = 0; i < X.rows(); ++i) out[i] = logSumExp(l.row(i).transpose());
+  return out;
+}
+
+GaussianMixture fitGaussianMixture(const Eigen::MatrixX3d& X, const GmmOptions& o) {
+  if (X.rows() == 0) throw InputError("colour model: no samples to fit (a region with no points)");
+  if (!X.allFinite()) throw InputError("colour model: a sample colour is not finite");
+  if (o.components < 0 || o.maxComponents < 1 || !(o.covarianceFloor > 0) || o.maxIterations < 1)
+    throw InputError(
+        "colour model: components ≥ 0, maxComponents ≥ 1, maxIterations ≥ 1 and "
+        "covarianceFloor > 0 are required");
+  const int n = static_cast<int>(X.rows());
+  if (o.components > 0) {
+    if (n < o.components)
+      throw InputError("colour model: " + std::to_string(n) + " samples for " +
+                       std::to_string(o.components) + " mixture components");
+    return fitFixedK(X, o.components, o);
+  }
+  GaussianMixture best = fitFixedK(X, 1, o);
+  for (int k = 2; k <= std::min(o.maxComponents, n / 10); ++k) {  // ≥ 10 samples per component
+    GaussianMixture g = fitFixedK(X, k, o);
+    if (g.bic < best.bic) best = std::move(g);
+  }
+  return best;
+}
+
+Eigen::VectorXd posteriorDisplacement(const std::vector<GaussianMixture>& models,
+                                      const std::vector<bool>& positive,
+                                      const Eigen::MatrixX3d& lab) {
+  if (models.size() != positive.size() || models.empty())
+    throw InputError("colour model: " + std::to_string(models.size()) + " label models but " +
+                     std::to_string(positive.size()) + " side flags");
+  const bool anyPos = std::find(positive.begin(), positive.end(), true) != positive.end();
+  const bool anyNeg = std::find(positive.begin(), positive.end(), false) != positive.end();
+  if (!anyPos || !anyNeg)
+    throw InputError("colour model: labels on both sides of the boundary are needed");
+  const int n = static_cast<int>(lab.rows()), m = static_cast<int>(models.size());
+  Eigen::MatrixXd l(n, m);
+  for (int j = 0; j < m; ++j) l.col(j) = models[j].logDensity(lab);
+  Eigen::VectorXd phi(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::VectorXd row = l.row(i).transpose();
+    const double all = logSumExp(row);
+    double p = 0;
+    for (int j = 0; j < m; ++j)
+      if (positive[j]) p += std::exp(row[j] - all);
+    phi[i] = std::clamp(2 * (p - 0.5), -1.0, 1.0);
+  }
+  return phi;
+}
+
+Eigen::MatrixX3d smoothVertexColours(const TriMesh& mesh, const Eigen::MatrixX3d& rgb,
+                                     double length, int steps) {
+  if (rgb.rows() != mesh.numVertices())
+    throw InputError("colour smoothing: " + std::to_string(rgb.rows()) + " colours for " +
+                     std::to_string(mesh.numVertices()) + " vertices");
+  if (!(length >= 0) || steps < 0)
+    throw InputError("colour smoothing: length and steps must be non-negative");
+  if (length == 0 || steps == 0) return rgb;
+  const Eigen::SparseMatrix<double> M = massMatrix(mesh);
+  SpdSolver solver;
+  solver.compute(M + (length * length) * cotanLaplacian(mesh));
+  Eigen::MatrixXd c = rgb;
+  for (int s = 0; s < steps; ++s) c = solver.solve(Eigen::MatrixXd(M * c));
+  return c;
+}
+
+ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
+                                      const std::vector<ColourRegion>& regions,
+                                      const ColourModelOptions& options) {
+  validateMesh(mesh, "colour model mesh");
+  if (srgb.rows() != mesh.numVertices() || !srgb.allFinite())
+    throw InputError("colour model: the scan needs one finite sRGB colour per vertex (" +
+                     std::to_string(srgb.rows()) + " colours for " +
+                     std::to_string(mesh.numVertices()) +
+                     " vertices); a scan without colour "
+                     "cannot be segmented by colour");
+  ColourDisplacement out;
+  out.lab =
+      srgbToLab(smoothVertexColours(mesh, srgb, options.smoothingLength, options.smoothingSteps));
+  std::vector<bool> positive;
+  for (size_t r = 0; r < regions.size(); ++r) {
+    const ColourRegion& region = regions[r];
+    if (region.points.empty())
+      throw InputError("colour model: region " + std::to_string(r) + " has no points left");
+    Eigen::MatrixX3d samples(static_cast<int>(region.points.size()), 3);
+    for (size_t i = 0; i < region.points.size(); ++i) {
+      const SurfacePoint& p = region.points[i];
+      if (p.face < 0 || p.face >= mesh.numFaces())
+        throw InputError("colour model: point " + std::to_string(i) + " of region " +
+                         std::to_string(r) + " is on face " + std::to_string(p.face) +
+                         ", outside the mesh");
+      samples.row(static_cast<int>(i)) = p.interpolate(mesh.F, Eigen::MatrixXd(out.lab));
+    }
+    GmmOptions g = options.gmm;
+    g.seed = options.gmm.seed + r;
+    out.models.push_back(fitGaussianMixture(samples, g));
+    positive.push_back(region.positive);
+  }
+  out.phiD = posteriorDisplacement(out.models, positive, out.lab);
+  return out;
+}
+
+}  // namespace s2p

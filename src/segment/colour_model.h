@@ -1,0 +1,85 @@
+// The colour displacement function of §5.1.4, Eq. (2): slight RGB smoothing on the surface,
+// CIELAB, one Gaussian mixture per labelled region fitted by EM on the region points' colours,
+// and the posterior probability of the "positive" labels mapped to φ_d = 2(P − ½) ∈ [−1, 1].
+// Two labels for B(U|S) and B(U|L); three for B(L|S) (foot or skin vs lower).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "core/surface_point.h"
+#include "core/tri_mesh.h"
+
+namespace s2p {
+
+// === Smoothing
+
+// Implicit (backward Euler) diffusion of per-vertex colours: `steps` solves of
+// (M + s L) c' = M c with s = length² (m²), so the smoothing radius is `length` metres whatever
+// the mesh resolution. rgb: #V×3. length = 0 or steps = 0 returns rgb unchanged.
+Eigen::MatrixX3d smoothVertexColours(const TriMesh& mesh, const Eigen::MatrixX3d& rgb,
+                                     double length, int steps = 1);
+
+// === Gaussian mixture in CIELAB
+
+struct GmmOptions {
+  int components = 0;  // fixed k ≥ 1, or 0: k in 1..maxComponents with the lowest BIC
+  int maxComponents = 3;
+  int maxIterations = 300;
+  double tolerance = 1e-7;       // stop when the mean log-likelihood gains less than this
+  double covarianceFloor = 1.0;  // added to every covariance's diagonal, (ΔE)²
+  std::uint64_t seed = 1;        // k-means++ initialisation
+};
+
+struct GaussianMixture {
+  Eigen::VectorXd weights;                   // k, sum 1
+  Eigen::MatrixX3d means;                    // k×3
+  std::vector<Eigen::Matrix3d> covariances;  // k, SPD (floored)
+  double logLikelihood = 0;                  // of the fitted samples
+  double bic = 0;                            // −2 log L + (10k − 1) ln N
+  int iterations = 0;
+
+  int components() const { return static_cast<int>(weights.size()); }
+  // log p(x) for every row of X (#N×3) → #N.
+  Eigen::VectorXd logDensity(const Eigen::MatrixX3d& X) const;
+};
+
+// EM fit on the rows of X (#N×3, CIELAB). Throws InputError when X is empty, not finite, or
+// has fewer rows than the requested components.
+GaussianMixture fitGaussianMixture(const Eigen::MatrixX3d& X, const GmmOptions& options = {});
+
+// φ_d = 2(P(positive | x) − ½) per row of lab (#N×3) with equal label priors: a label's
+// region points reflect the feature layout, not its area. models: one mixture per label;
+// positive[i] says which side label i pushes to (+1). Throws InputError when the sizes
+// differ or one side has no label.
+Eigen::VectorXd posteriorDisplacement(const std::vector<GaussianMixture>& models,
+                                      const std::vector<bool>& positive,
+                                      const Eigen::MatrixX3d& lab);
+
+// === The whole displacement (§5.1.4)
+
+struct ColourRegion {
+  std::vector<SurfacePoint> points;  // projected labelled region points on the mesh
+  bool positive = false;             // the side of the boundary the label is on
+};
+
+struct ColourModelOptions {
+  double smoothingLength = 0.005;  // metres of RGB smoothing (the paper's "slight smoothing")
+  int smoothingSteps = 1;
+  GmmOptions gmm;
+};
+
+struct ColourDisplacement {
+  Eigen::VectorXd phiD;                 // #V, in [−1, 1]
+  Eigen::MatrixX3d lab;                 // #V×3, smoothed colours in CIELAB
+  std::vector<GaussianMixture> models;  // one per region
+};
+
+// srgb: #V×3 in [0, 1]. Throws InputError for a colour matrix of the wrong size or non-finite,
+// a region without points, a point off the mesh, or no region on one side.
+ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
+                                      const std::vector<ColourRegion>& regions,
+                                      const ColourModelOptions& options = {});
+
+}  // namespace s2p

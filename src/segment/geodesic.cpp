@@ -1,0 +1,132 @@
+#include "segment/geodesic.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/error.h"
+#include "core/laplacian.h"
+#include "core/mesh_topology.h"
+
+namespace s2p {
+
+struct HeatDistance::Impl {
+  TriMesh mesh;
+  int numFaces = 0;
+  double t = 0;
+  Eigen::SparseMatrix<double> G, D;  // (3#F)×#V gradient, #V×(3#F) integrated divergence
+  SpdSolver heat, poisson;           // (M + tL), (L + εM)
+  Eigen::VectorXi vertexComponent;   // #V
+  int numComponents = 0;
+};
+
+HeatDistance::HeatDistance(const TriMesh& mesh, const HeatDistanceOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  validateMesh(mesh, "heat distance mesh");
+  if (!(options.timeFactor > 0) || !std::isfinite(options.timeFactor))
+    throw InputError("heat distance: timeFactor must be positive, got " +
+                     std::to_string(options.timeFactor));
+  Impl& d = *impl_;
+  d.mesh = mesh;
+  d.numFaces = mesh.numFaces();
+  const MeshTopology topo(mesh.F, mesh.numVertices());
+  d.vertexComponent = Eigen::VectorXi::Constant(mesh.numVertices(), -1);
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) d.vertexComponent[mesh.F(f, k)] = topo.faceComponent()[f];
+  for (int v = 0; v < mesh.numVertices(); ++v)
+    if (d.vertexComponent[v] < 0)
+      throw InputError("heat distance: vertex " + std::to_string(v) +
+                       " is referenced by no face; remove unreferenced vertices first");
+  d.numComponents = topo.numComponents();
+
+  const double h = meanEdgeLength(mesh);
+  d.t = options.timeFactor * h * h;
+  const Eigen::SparseMatrix<double> L = cotanLaplacian(mesh);
+  const Eigen::SparseMatrix<double> M = massMatrix(mesh);
+  d.G = gradientOperator(mesh);
+  d.D = divergenceOperator(mesh);
+  d.heat.compute(M + d.t * L);
+  const double diag = boundingBox(mesh.V).extent().norm();
+  d.poisson.compute(L + (1e-8 / (diag * diag)) * M);
+}
+
+HeatDistance::~HeatDistance() = default;
+HeatDistance::HeatDistance(HeatDistance&&) noexcept = default;
+HeatDistance& HeatDistance::operator=(HeatDistance&&) noexcept = default;
+
+double HeatDistance::heatTime() const {
+  return impl_->t;
+}
+int HeatDistance::numVertices() const {
+  return impl_->mesh.numVertices();
+}
+
+Eigen::VectorXd HeatDistance::distance(const Isoline& curve) const {
+  const Impl& d = *impl_;
+  const TriMesh& m = d.mesh;
+  const int nV = m.numVertices();
+  // Source: δ_C in weak form, b_i = ∫_C hat_i ds, exact for the polyline inside each face.
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(nV);
+  const auto add = [&](const IsolinePoint& p, double w) {
+    const SurfacePoint& s = p.point;
+    if (s.face < 0 || s.face >= m.numFaces())
+      throw InputError("heat distance: curve point on face " + std::to_string(s.face) +
+                       " is not on this mesh");
+    for (int k = 0; k < 3; ++k) b[m.F(s.face, k)] += w * s.bary[k];
+  };
+  for (const IsolineCurve& c : curve.curves) {
+    const size_t n = c.points.size();
+    const size_t segments = c.closed ? n : (n > 0 ? n - 1 : 0);
+    for (size_t i = 0; i < segments; ++i) {
+      const IsolinePoint& p = c.points[i];
+      const IsolinePoint& q = c.points[(i + 1) % n];
+      const double len = (q.position - p.position).norm();
+      add(p, 0.5 * len);
+      add(q, 0.5 * len);
+    }
+  }
+  if (!(b.sum() > 0)) throw InputError("heat distance: the curve is empty or has zero length");
+
+  const Eigen::VectorXd u = d.heat.solve(b);
+  const Eigen::VectorXd gu = d.G * u;
+  Eigen::VectorXd X(3 * d.numFaces);
+  for (int f = 0; f < d.numFaces; ++f) {
+    const Eigen::Vector3d g(gu[f], gu[d.numFaces + f], gu[2 * d.numFaces + f]);
+    const double n = g.norm();
+    const Eigen::Vector3d x = n > 0 ? Eigen::Vector3d(-g / n) : Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) X[k * d.numFaces + f] = x[k];
+  }
+  Eigen::VectorXd phi = d.poisson.solve(Eigen::VectorXd(-(d.D * X)));
+
+  // Per component: zero on the curve (source-weighted mean), +∞ where the curve is absent.
+  Eigen::VectorXd sumB = Eigen::VectorXd::Zero(d.numComponents), sumBPhi = sumB;
+  for (int v = 0; v < nV; ++v) {
+    sumB[d.vertexComponent[v]] += b[v];
+    sumBPhi[d.vertexComponent[v]] += b[v] * phi[v];
+  }
+  for (int v = 0; v < nV; ++v) {
+    const int c = d.vertexComponent[v];
+    phi[v] = sumB[c] > 0 ? std::abs(phi[v] - sumBPhi[c] / sumB[c])
+                         : std::numeric_limits<double>::infinity();
+  }
+  return phi;
+}
+
+Eigen::VectorXd HeatDistance::signedDistance(const Isoline& curve,
+                                             const Eigen::VectorXd& sign) const {
+  if (sign.size() != numVertices())
+    throw InputError("heat distance: the sign field has " + std::to_string(sign.size()) +
+                     " values for " + std::to_string(numVertices()) + " vertices");
+  Eigen::VectorXd phi = distance(curve);
+  for (int v = 0; v < phi.size(); ++v)
+    if (sign[v] < 0) phi[v] = -phi[v];
+  return phi;
+}
+
+Eigen::VectorXd signedDistanceFromZeroSet(const TriMesh& mesh, const Eigen::VectorXd& field,
+                                          const HeatDistanceOptions& options) {
+  const HeatDistance heat(mesh, options);
+  return heat.signedDistance(extractIsoline(mesh, field), field);
+}
+
+}  // namespace s2p

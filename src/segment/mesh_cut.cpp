@@ -1,0 +1,115 @@
+#include "segment/mesh_cut.h"
+
+#include <array>
+
+namespace s2p {
+
+namespace {
+
+// Builds one part incrementally: original vertices and edge vertices are created on first use.
+class PartBuilder {
+ public:
+  PartBuilder(const TriMesh& mesh, int numEdges)
+      : mesh_(mesh), vertexId_(mesh.numVertices(), -1), edgeId_(numEdges, -1) {}
+
+  int original(int v) {
+    if (vertexId_[v] < 0) {
+      vertexId_[v] = static_cast<int>(origin_.size());
+      origin_.push_back({v, v, 0.0});
+    }
+    return vertexId_[v];
+  }
+  int onEdge(const IsolinePoint& p, int a, int b) {
+    if (edgeId_[p.edge] < 0) {
+      edgeId_[p.edge] = static_cast<int>(origin_.size());
+      origin_.push_back({a, b, p.t});
+    }
+    return edgeId_[p.edge];
+  }
+  void face(int a, int b, int c, int originalFace) {
+    faces_.push_back({a, b, c});
+    faceOrigin_.push_back(originalFace);
+  }
+  CutPart finish() const {
+    CutPart part;
+    part.vertexOrigin = origin_;
+    part.mesh.V.resize(static_cast<int>(origin_.size()), 3);
+    for (size_t i = 0; i < origin_.size(); ++i) {
+      const VertexOrigin& o = origin_[i];
+      part.mesh.V.row(static_cast<int>(i)) = (1 - o.t) * mesh_.V.row(o.a) + o.t * mesh_.V.row(o.b);
+    }
+    part.mesh.F.resize(static_cast<int>(faces_.size()), 3);
+    part.faceOrigin.resize(static_cast<int>(faces_.size()));
+    for (size_t i = 0; i < faces_.size(); ++i) {
+      part.mesh.F.row(static_cast<int>(i)) << faces_[i][0], faces_[i][1], faces_[i][2];
+      part.faceOrigin[static_cast<int>(i)] = faceOrigin_[i];
+    }
+    return part;
+  }
+
+ private:
+  const TriMesh& mesh_;
+  std::vector<int> vertexId_, edgeId_;
+  std::vector<VertexOrigin> origin_;
+  std::vector<std::array<int, 3>> faces_;
+  std::vector<int> faceOrigin_;
+};
+
+}  // namespace
+
+CutResult cutAlongIsoline(const TriMesh& mesh, const Eigen::VectorXd& phi) {
+  const MeshTopology topology(mesh.F, mesh.numVertices());
+  return cutAlongIsoline(mesh, topology, phi);
+}
+
+CutResult cutAlongIsoline(const TriMesh& mesh, const MeshTopology& topology,
+                          const Eigen::VectorXd& phi) {
+  CutResult result;
+  result.isoline = extractIsoline(mesh, topology, phi, 0.0);  // validates phi and orientation
+  const int nE = topology.numEdges();
+  std::vector<const IsolinePoint*> edgePoint(nE, nullptr);
+  for (const auto& c : result.isoline.curves)
+    for (const auto& p : c.points) edgePoint[p.edge] = &p;
+
+  PartBuilder neg(mesh, nE), pos(mesh, nE);
+  const Eigen::MatrixX3i& FE = topology.faceEdges();
+  for (int f = 0; f < mesh.numFaces(); ++f) {
+    const std::array<int, 3> v = {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)};
+    const std::array<bool, 3> s = {phi[v[0]] >= 0, phi[v[1]] >= 0, phi[v[2]] >= 0};
+    if (s[0] == s[1] && s[1] == s[2]) {
+      PartBuilder& part = s[0] ? pos : neg;
+      part.face(part.original(v[0]), part.original(v[1]), part.original(v[2]), f);
+      continue;
+    }
+    const int k = (s[0] != s[1] && s[0] != s[2]) ? 0 : (s[1] != s[0] && s[1] != s[2]) ? 1 : 2;
+    const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+    const IsolinePoint& pNext = *edgePoint[FE(f, k2)];  // on edge (k, k+1)
+    const IsolinePoint& pPrev = *edgePoint[FE(f, k1)];  // on edge (k+2, k)
+    const auto edgeEnds = [&](const IsolinePoint& p) {
+      return std::array<int, 2>{topology.edges()(p.edge, 0), topology.edges()(p.edge, 1)};
+    };
+    PartBuilder& lone = s[k] ? pos : neg;
+    PartBuilder& other = s[k] ? neg : pos;
+    const auto [na, nb] = edgeEnds(pNext);
+    const auto [pa, pb] = edgeEnds(pPrev);
+    // Lone side: (k, p, q).
+    lone.face(lone.original(v[k]), lone.onEdge(pNext, na, nb), lone.onEdge(pPrev, pa, pb), f);
+    // Other side: quad (p, k+1, k+2, q), split along its shorter diagonal.
+    const int p = other.onEdge(pNext, na, nb), q = other.onEdge(pPrev, pa, pb);
+    const int b = other.original(v[k1]), c = other.original(v[k2]);
+    const double dPc = (pNext.position - mesh.V.row(v[k2]).transpose()).norm();
+    const double dQb = (pPrev.position - mesh.V.row(v[k1]).transpose()).norm();
+    if (dPc <= dQb) {
+      other.face(p, b, c, f);
+      other.face(p, c, q, f);
+    } else {
+      other.face(p, b, q, f);
+      other.face(b, c, q, f);
+    }
+  }
+  result.negative = neg.finish();
+  result.positive = pos.finish();
+  return result;
+}
+
+}  // namespace s2p

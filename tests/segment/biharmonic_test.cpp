@@ -1,0 +1,79 @@
+#include "segment/biharmonic.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/mesh_query.h"
+#include "core/shapes.h"
+
+namespace s2p {
+namespace {
+
+// Constraint at the surface point of `mesh` closest to p.
+ValueConstraint at(const MeshQuery& q, const Eigen::Vector3d& p, double value) {
+  const ClosestHit h = q.closestPoint(p);
+  return {SurfacePoint{h.face, h.bary}, value};
+}
+
+TEST(Biharmonic, RingOfZerosOnCylinderGivesThatRingAsZeroIsoline) {
+  const double r = 0.15, y0 = 0.437;
+  const TriMesh cyl = makeCylinder(50, 40, r, 1.0);
+  const MeshQuery q(cyl);
+  std::vector<ValueConstraint> c;
+  for (int i = 0; i < 17; ++i) {  // zero ring at y0, points inside faces (not at vertices)
+    const double a = 2 * M_PI * (i + 0.3) / 17;
+    c.push_back(at(q, {r * std::cos(a), y0, r * std::sin(a)}, 0.0));
+  }
+  c.push_back(at(q, {r, 0.95, 0}, 1.0));
+  c.push_back(at(q, {-r, 0.05, 0}, -1.0));
+  Biharmonic b(cyl);
+  const Eigen::VectorXd phi = b.solve(c);
+  const Isoline iso = extractIsoline(cyl, phi);
+  ASSERT_EQ(iso.curves.size(), 1u);
+  EXPECT_TRUE(iso.curves[0].closed);
+  for (const auto& p : iso.curves[0].points) EXPECT_NEAR(p.position.y(), y0, 0.01 * r);
+  // Sign: above positive, below negative.
+  for (int v = 0; v < cyl.numVertices(); ++v)
+    if (std::abs(cyl.V(v, 1) - y0) > 0.05) {
+      EXPECT_EQ(phi[v] > 0, cyl.V(v, 1) > y0);
+    }
+}
+
+TEST(Biharmonic, ConstraintInsideAFaceIsMetTo1e6AndRefactorReusesAnalysis) {
+  const TriMesh s = makeIcosphere(3);
+  Biharmonic b(s);
+  const std::vector<ValueConstraint> c1 = {{SurfacePoint{7, {0.2, 0.3, 0.5}}, 0.0},
+                                           {SurfacePoint{100, {0.6, 0.1, 0.3}}, 1.0},
+                                           {SurfacePoint{250, {1.0 / 3, 1.0 / 3, 1.0 / 3}}, -1.0}};
+  const Eigen::VectorXd phi = b.solve(c1);
+  for (const auto& c : c1) EXPECT_NEAR(c.point.interpolate(s.F, phi), c.value, 1e-6);
+  EXPECT_FALSE(b.lastStats().refactored);
+  const std::vector<ValueConstraint> c2 = {{SurfacePoint{31, {0.5, 0.5, 0.0}}, 0.25},
+                                           {SurfacePoint{300, {0.1, 0.1, 0.8}}, -0.5}};
+  const Eigen::VectorXd phi2 = b.solve(c2);
+  EXPECT_TRUE(b.lastStats().refactored);
+  for (const auto& c : c2) EXPECT_NEAR(c.point.interpolate(s.F, phi2), c.value, 1e-6);
+}
+
+TEST(Biharmonic, EqualConstraintValuesGiveThatConstant) {
+  // Constants span the null space of L M⁻¹ L: equal values everywhere are the minimiser.
+  const TriMesh g = makeGrid(20, 20);
+  const std::vector<ValueConstraint> c = {{SurfacePoint{10, {0.2, 0.3, 0.5}}, 0.7},
+                                          {SurfacePoint{400, {0.3, 0.3, 0.4}}, 0.7},
+                                          {SurfacePoint{700, {0.6, 0.2, 0.2}}, 0.7}};
+  const Eigen::VectorXd u = biharmonicFunction(g, c);
+  EXPECT_LT((u.array() - 0.7).abs().maxCoeff(), 1e-6);
+}
+
+TEST(Biharmonic, BadConstraintsThrowInputError) {
+  const TriMesh s = makeIcosphere(1);
+  Biharmonic b(s);
+  EXPECT_THROW(b.solve({}), InputError);
+  EXPECT_THROW(b.solve({{SurfacePoint{s.numFaces(), {1, 0, 0}}, 0}}), InputError);
+  EXPECT_THROW(b.solve({{SurfacePoint{0, {0.5, 0.2, 0.1}}, 0}}), InputError);
+}
+
+}  // namespace
+}  // namespace s2p

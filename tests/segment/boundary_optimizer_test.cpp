@@ -1,0 +1,164 @@
+#include "segment/boundary_optimizer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/mesh_query.h"
+#include "core/mesh_topology.h"
+#include "core/shapes.h"
+#include "segment/colour_model.h"
+#include "segment_test_meshes.h"
+
+namespace s2p {
+namespace {
+
+SurfacePoint closest(const MeshQuery& q, const Eigen::Vector3d& p) {
+  const ClosestHit h = q.closestPoint(p);
+  return {h.face, h.bary};
+}
+
+// A ring of `n` surface points around the vertical axis through (cx, ·, 0) at height y.
+std::vector<SurfacePoint> ring(const MeshQuery& q, double cx, double y, double r, int n) {
+  std::vector<SurfacePoint> s;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * (i + 0.25) / n;
+    s.push_back(closest(q, {cx + r * std::cos(a), y, r * std::sin(a)}));
+  }
+  return s;
+}
+
+// Sign points at height y around the axis (cx, ·, 0).
+void addSigns(std::vector<ValueConstraint>& out, const MeshQuery& q, double cx, double y, double r,
+              double value) {
+  for (int i = 0; i < 4; ++i) {
+    const double a = M_PI / 2 * i;
+    out.push_back({closest(q, {cx + r * std::cos(a), y, r * std::sin(a)}), value});
+  }
+}
+
+// φ_d of a mesh coloured blue (positive) where positiveColour(y) and red elsewhere, the
+// colour model fitted on vertices far from the colour edge.
+template <typename Pred>
+Eigen::VectorXd twoColourDisplacement(const TriMesh& m, Pred positiveColour, double edge) {
+  Eigen::MatrixX3d rgb(m.numVertices(), 3);
+  ColourRegion pos{{}, true}, neg{{}, false};
+  for (int v = 0; v < m.numVertices(); ++v) {
+    const bool p = positiveColour(m.V(v, 1));
+    rgb.row(v) = p ? Eigen::RowVector3d(0.85, 0.65, 0.55) : Eigen::RowVector3d(0.15, 0.2, 0.7);
+    if (std::abs(m.V(v, 1) - edge) > 0.15 && v % 5 == 0)
+      (p ? pos : neg).points.push_back(SurfacePoint::atVertex(m.F, v));
+  }
+  return colourDisplacement(m, rgb, {pos, neg}).phiD;
+}
+
+struct CylinderCase {
+  TriMesh mesh;
+  std::vector<std::vector<SurfacePoint>> splines;
+  std::vector<ValueConstraint> signs;
+  Eigen::VectorXd phiD;
+};
+
+// Two-colour cylinder, radius 0.1·s, height s: skin-like colour (positive) above y = 0.3·s,
+// blue below; the start ring at 0.45·s.
+CylinderCase twoColourCylinder(int rings, int segments, double s) {
+  CylinderCase c;
+  c.mesh = makeCylinder(rings, segments, 0.1 * s, s);
+  const MeshQuery q(c.mesh);
+  c.splines = {ring(q, 0, 0.45 * s, 0.1 * s, 12)};
+  addSigns(c.signs, q, 0, 0.95 * s, 0.1 * s, 1.0);
+  addSigns(c.signs, q, 0, 0.05 * s, 0.1 * s, -1.0);
+  c.phiD = twoColourDisplacement(
+      c.mesh, [s](double y) { return y >= 0.3 * s; }, 0.3 * s);
+  return c;
+}
+
+double meanY(const Isoline& iso) {
+  const Eigen::MatrixX3d P = iso.positions();
+  return P.col(1).mean();
+}
+
+TEST(BoundaryOptimizer, TwoColourCylinderConvergesToTheColourEdge) {
+  const CylinderCase c = twoColourCylinder(137, 48, 1.0);
+  const BoundaryResult r = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD);
+  EXPECT_TRUE(r.converged);
+  EXPECT_FALSE(r.vanished);
+  ASSERT_EQ(r.initial.curves.size(), 1u);
+  EXPECT_NEAR(meanY(r.initial), 0.45, 0.005);
+  ASSERT_EQ(r.boundary.curves.size(), 1u);
+  EXPECT_TRUE(r.boundary.curves[0].closed);
+  for (const auto& p : r.boundary.curves[0].points) EXPECT_NEAR(p.position.y(), 0.3, 0.005);
+  // It took about (0.45 − 0.3)/α iterations to travel there.
+  EXPECT_GE(r.iterations, 12);
+  EXPECT_LE(r.iterations, 40);
+}
+
+TEST(BoundaryOptimizer, SameBoundaryAtTwoResolutionsAndScaledTwice_Slow) {
+  const CylinderCase fine = twoColourCylinder(137, 48, 1.0);
+  const CylinderCase coarse = twoColourCylinder(91, 32, 1.0);
+  const CylinderCase big = twoColourCylinder(137, 48, 2.0);
+  const BoundaryOptions o;
+  const BoundaryOptions o2{.alpha = 2 * o.alpha,
+                           .beta = 4 * o.beta,
+                           .tolerance = 4 * o.tolerance,
+                           .heat = {},
+                           .biharmonic = {}};
+  const BoundaryResult rf = optimizeBoundary(fine.mesh, fine.splines, fine.signs, fine.phiD, o);
+  const BoundaryResult rc =
+      optimizeBoundary(coarse.mesh, coarse.splines, coarse.signs, coarse.phiD, o);
+  const BoundaryResult rb = optimizeBoundary(big.mesh, big.splines, big.signs, big.phiD, o2);
+  ASSERT_TRUE(rf.converged && rc.converged && rb.converged);
+  EXPECT_NEAR(meanY(rf.boundary), meanY(rc.boundary), 0.003);
+  EXPECT_NEAR(meanY(rb.boundary), 2 * meanY(rf.boundary), 1e-6);
+  EXPECT_EQ(rb.iterations, rf.iterations);
+}
+
+TEST(BoundaryOptimizer, TwoLegLoopsMergeIntoOneLoopAboveTheFork_Slow) {
+  const TriMesh m = testing::makeTrousers(0.013);
+  ASSERT_TRUE(MeshTopology(m.F, m.numVertices()).isClosed());
+  const MeshQuery q(m);
+  const std::vector<std::vector<SurfacePoint>> splines = {ring(q, 0.075, 0.38, 0.055, 10),
+                                                          ring(q, -0.075, 0.38, 0.055, 10)};
+  std::vector<ValueConstraint> signs;
+  addSigns(signs, q, 0.075, 0.1, 0.055, 1.0);  // "feet": skin side
+  addSigns(signs, q, -0.075, 0.1, 0.055, 1.0);
+  addSigns(signs, q, 0, 0.95, 0.13, -1.0);  // trunk: garment side
+  const Eigen::VectorXd phiD = twoColourDisplacement(
+      m, [](double y) { return y < 0.7; }, 0.7);
+  for (const bool faithful : {true, false}) {  // the fast path changes topology too
+    BoundaryOptions o;
+    o.faithful = faithful;
+    const BoundaryResult r = optimizeBoundary(m, splines, signs, phiD, o);
+    EXPECT_EQ(r.initial.curves.size(), 2u);
+    EXPECT_TRUE(r.converged);
+    ASSERT_EQ(r.boundary.curves.size(), 1u) << faithful;
+    EXPECT_TRUE(r.boundary.curves[0].closed);
+    for (const auto& p : r.boundary.curves[0].points) EXPECT_NEAR(p.position.y(), 0.7, 0.01);
+  }
+}
+
+TEST(BoundaryOptimizer, FastPathReachesTheFaithfulBoundaryOnTheCylinder_Slow) {
+  const CylinderCase c = twoColourCylinder(137, 48, 1.0);
+  const BoundaryResult faithful = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD);
+  BoundaryOptions fastOptions;
+  fastOptions.faithful = false;
+  const BoundaryResult fast = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD, fastOptions);
+  ASSERT_TRUE(fast.converged);
+  ASSERT_EQ(fast.boundary.curves.size(), 1u);
+  EXPECT_NEAR(meanY(fast.boundary), meanY(faithful.boundary), 0.001);
+  EXPECT_LT(fast.timings.biharmonic, faithful.timings.biharmonic);  // only φ₀ uses it
+}
+
+TEST(BoundaryOptimizer, BadInputThrowsInputError) {
+  const CylinderCase c = twoColourCylinder(20, 12, 1.0);
+  BoundaryOptimizer o(c.mesh);
+  EXPECT_THROW(o.run({}, c.signs, c.phiD), InputError);  // no spline
+  EXPECT_THROW(o.run(c.splines, c.signs, Eigen::VectorXd::Zero(3)), InputError);
+  const std::vector<ValueConstraint> onlyPositive(c.signs.begin(), c.signs.begin() + 4);
+  EXPECT_THROW(o.run(c.splines, onlyPositive, c.phiD), InputError);
+  EXPECT_THROW(BoundaryOptimizer(c.mesh, {.alpha = -1, .heat = {}, .biharmonic = {}}), InputError);
+}
+
+}  // namespace
+}  // namespace s2p

@@ -1,0 +1,121 @@
+#include "segment/colour_model.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/colour.h"
+#include "core/error.h"
+#include "core/laplacian.h"
+#include "core/mesh_query.h"
+#include "core/shapes.h"
+
+namespace s2p {
+namespace {
+
+// Surface points at vertices with y in [lo, hi] (every `stride`-th).
+std::vector<SurfacePoint> pointsBetween(const TriMesh& m, double lo, double hi, int stride = 7) {
+  std::vector<SurfacePoint> p;
+  for (int v = 0; v < m.numVertices(); v += stride)
+    if (m.V(v, 1) >= lo && m.V(v, 1) <= hi) p.push_back(SurfacePoint::atVertex(m.F, v));
+  return p;
+}
+
+TEST(ColourModel, TwoColourCylinderGivesPlusAndMinusOneOnEachSide) {
+  const TriMesh cyl = makeCylinder(80, 32, 0.1, 1.0);
+  Eigen::MatrixX3d rgb(cyl.numVertices(), 3);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 0.02);
+  for (int v = 0; v < cyl.numVertices(); ++v) {
+    const Eigen::RowVector3d base =
+        cyl.V(v, 1) < 0.3 ? Eigen::RowVector3d(0.8, 0.1, 0.1) : Eigen::RowVector3d(0.1, 0.2, 0.8);
+    rgb.row(v) = base + Eigen::RowVector3d(noise(rng), noise(rng), noise(rng));
+  }
+  const std::vector<ColourRegion> regions = {{pointsBetween(cyl, 0.6, 1.0), true},
+                                             {pointsBetween(cyl, 0.0, 0.2), false}};
+  const ColourDisplacement d = colourDisplacement(cyl, rgb, regions);
+  for (int v = 0; v < cyl.numVertices(); ++v) {
+    if (cyl.V(v, 1) > 0.33) {
+      EXPECT_GT(d.phiD[v], 0.99) << v;
+    }
+    if (cyl.V(v, 1) < 0.27) {
+      EXPECT_LT(d.phiD[v], -0.99) << v;
+    }
+  }
+  EXPECT_LE(d.phiD.cwiseAbs().maxCoeff(), 1.0);
+}
+
+TEST(ColourModel, TwoModesPerLabelAreRecoveredWithinOneDeltaE) {
+  const Eigen::RowVector3d m1(40, 20, -10), m2(70, -15, 30);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0, 2.0);
+  Eigen::MatrixX3d X(1200, 3);
+  for (int i = 0; i < X.rows(); ++i)
+    X.row(i) = (i < 700 ? m1 : m2) + Eigen::RowVector3d(n(rng), n(rng), n(rng));
+  const GaussianMixture g = fitGaussianMixture(X, {.maxComponents = 4, .seed = 5});
+  ASSERT_EQ(g.components(), 2);  // chosen by BIC
+  const int first = (g.means.row(0) - m1).norm() < (g.means.row(1) - m1).norm() ? 0 : 1;
+  EXPECT_LT((g.means.row(first) - m1).norm(), 1.0);
+  EXPECT_LT((g.means.row(1 - first) - m2).norm(), 1.0);
+  EXPECT_NEAR(g.weights[first], 700.0 / 1200, 0.02);
+  // Variance per axis ≈ 4 (+ the floor of 1).
+  EXPECT_NEAR(g.covariances[first](0, 0), 5.0, 1.0);
+}
+
+TEST(ColourModel, SameSeedSameFit) {
+  Eigen::MatrixX3d X = Eigen::MatrixX3d::Random(300, 3) * 20;
+  const GaussianMixture a = fitGaussianMixture(X, {.components = 3, .seed = 9});
+  const GaussianMixture b = fitGaussianMixture(X, {.components = 3, .seed = 9});
+  EXPECT_EQ(a.means, b.means);
+  EXPECT_EQ(a.logLikelihood, b.logLikelihood);
+}
+
+TEST(ColourModel, ThreeLabelsFootOrSkinAgainstLower) {
+  // Bands along y: foot (dark) < 0.2, skin 0.2–0.5, lower garment (blue) above 0.5.
+  const TriMesh cyl = makeCylinder(60, 24, 0.1, 1.0);
+  const Eigen::Vector3d foot(0.1, 0.1, 0.1), skin(0.85, 0.65, 0.55), lower(0.2, 0.3, 0.7);
+  Eigen::MatrixX3d rgb(cyl.numVertices(), 3);
+  for (int v = 0; v < cyl.numVertices(); ++v) {
+    const double y = cyl.V(v, 1);
+    rgb.row(v) = (y < 0.2 ? foot : y < 0.5 ? skin : lower).transpose();
+  }
+  const std::vector<ColourRegion> regions = {{pointsBetween(cyl, 0.0, 0.15, 3), true},
+                                             {pointsBetween(cyl, 0.25, 0.45, 3), true},
+                                             {pointsBetween(cyl, 0.6, 1.0, 3), false}};
+  const ColourDisplacement d = colourDisplacement(cyl, rgb, regions);
+  for (int v = 0; v < cyl.numVertices(); ++v) {
+    const double y = cyl.V(v, 1);
+    if (y < 0.45) {
+      EXPECT_GT(d.phiD[v], 0.99) << v;  // foot and skin are both "positive"
+    }
+    if (y > 0.55) {
+      EXPECT_LT(d.phiD[v], -0.99) << v;
+    }
+  }
+}
+
+TEST(ColourModel, SmoothingKeepsConstantsAndMean) {
+  const TriMesh s = makeIcosphere(3);
+  Eigen::MatrixX3d rgb = Eigen::MatrixX3d::Constant(s.numVertices(), 3, 0.4);
+  EXPECT_LT((smoothVertexColours(s, rgb, 0.05) - rgb).cwiseAbs().maxCoeff(), 1e-12);
+  rgb.col(0) = s.V.col(1).array() * 0.5 + 0.5;
+  const Eigen::MatrixX3d sm = smoothVertexColours(s, rgb, 0.05, 2);
+  // Backward Euler diffusion preserves the area-weighted mean and reduces the spread.
+  const Eigen::VectorXd a = vertexAreas(s);
+  EXPECT_NEAR(a.dot(sm.col(0)), a.dot(rgb.col(0)), 1e-10);
+  EXPECT_LT(sm.col(0).maxCoeff(), rgb.col(0).maxCoeff());
+}
+
+TEST(ColourModel, BadInputThrowsInputError) {
+  const TriMesh s = makeIcosphere(2);
+  const Eigen::MatrixX3d rgb = Eigen::MatrixX3d::Constant(s.numVertices(), 3, 0.5);
+  const std::vector<ColourRegion> ok = {{{SurfacePoint::atVertex(s.F, 0)}, true},
+                                        {{SurfacePoint::atVertex(s.F, 1)}, false}};
+  EXPECT_THROW(colourDisplacement(s, Eigen::MatrixX3d(0, 3), ok), InputError);  // no colour
+  EXPECT_THROW(colourDisplacement(s, rgb, {{{}, true}, ok[1]}), InputError);    // empty region
+  EXPECT_THROW(colourDisplacement(s, rgb, {ok[0]}), InputError);                // one side only
+  EXPECT_THROW(fitGaussianMixture(Eigen::MatrixX3d(0, 3)), InputError);
+}
+
+}  // namespace
+}  // namespace s2p
