@@ -43,7 +43,7 @@ Slab slab(const Samples& s, double lo, double hi) {
   Slab r;
   for (int i = 0; i < s.P.rows(); ++i) {
     const double h = s.h(i);
-    if (h < lo || h > hi) continue;
+    if (h < lo || h > hi || s.w[i] <= 0) continue;
     const Eigen::Vector2d q(s.P(i, 0), s.P(i, 2));
     r.weight += s.w[i];
     r.mean += s.w[i] * q;
@@ -107,13 +107,8 @@ Orientation estimateOrientation(const TriMesh& scan, const OrientationOptions& o
                      std::to_string(opt.minVertices) + " vertices); give a full-body scan");
   validateMesh(scan, what);
   const Samples s = sampleFaces(scan);
-  if (!(s.height >= opt.minHeight && s.height <= opt.maxHeight))
-    throw InputError(what + " is " + fmt2(s.height) + " m tall, not a standing person (" +
-                     fmt2(opt.minHeight) + "–" + fmt2(opt.maxHeight) +
-                     " m expected); check the units (metres) and that +Y is up");
   const double area = s.w.sum();
-  if (!(area > 0)) throw InputError(what + " has zero surface area");
-
+  if (!(area > 0) || !(s.height > 0)) throw InputError(what + " has zero surface area or height");
   // Lying down or not elongated: the vertical must dominate the area-weighted covariance.
   const Eigen::RowVector3d mean = (s.w.transpose() * s.P) / area;
   const Eigen::MatrixX3d Q = s.P.rowwise() - mean;
@@ -129,6 +124,10 @@ Orientation estimateOrientation(const TriMesh& scan, const OrientationOptions& o
                      " m²): a person lying down, or not a person; rotate the scan so that the "
                      "person stands along +Y");
 
+  if (!(s.height >= opt.minHeight && s.height <= opt.maxHeight))
+    throw InputError(what + " is " + fmt2(s.height) + " m tall, not a standing person (" +
+                     fmt2(opt.minHeight) + "–" + fmt2(opt.maxHeight) +
+                     " m expected); check the units (metres) and that +Y is up");
   // Upside down: most surface lies above mid-height for a standing person (torso, arms and
   // head up, thin legs below) and the two feet make the lowest slab wider than the head top.
   const double centroid = (mean.y() - s.y0) / s.height;
@@ -141,8 +140,9 @@ Orientation estimateOrientation(const TriMesh& scan, const OrientationOptions& o
                      (topSpan > bottomSpan ? "wider" : "narrower") +
                      " than the bottom end; flip the scan so that the head is at +Y");
 
-  // Lateral axis: the torso and shoulders are wider than deep; facing is the minor axis.
-  const Slab torso = slab(s, 0.55, 0.78);
+  // Lateral axis: the shoulders are much wider than deep and barely move when the arms
+  // swing; facing is the minor axis of the shoulder slab.
+  const Slab torso = slab(s, 0.78, 0.84);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> tEig(torso.cov);
   Eigen::Vector2d d = tEig.eigenvectors().col(0);  // (x, z), smallest variance
   const double anisotropy =
