@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "fit/pose_init.h"
 
 namespace s2p {
 namespace {
@@ -118,13 +119,19 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
 
   const Poser poser(model);
   const ScanTarget target(input.scan);
+  BodyFitResult result;
   if (!input.initial) {
-    // BSE translateTo: the body's centroid onto the scan's.
-    params.pose.translation += areaCentroid(input.scan) - areaCentroid(poser.pose(params).mesh);
+    try {
+      params = initialisePose(input.scan, model, params.shape);
+    } catch (const InputError& e) {
+      // No five extremities (limbs touching the body): BSE's translateTo, the rest body's
+      // centroid onto the scan's.
+      result.warnings.push_back(std::string("pose initialisation failed, fitting from the rest pose: ") + e.what());
+      params.pose.translation += areaCentroid(input.scan) - areaCentroid(poser.pose(params).mesh);
+    }
   }
   FitEnergy energy(poser, params, options.weights, defaultJointLimits(model));
 
-  BodyFitResult result;
   Eigen::VectorXd beta = params.shape;
   Eigen::VectorXd theta(3 * nj);
   for (int j = 0; j < nj; ++j) theta.segment<3>(3 * j) = params.pose.axisAngle.row(j).transpose();

@@ -17,7 +17,7 @@ namespace s2p {
 struct BodyFitInput {
   TriMesh scan;                        // metres, +Y up, facing +Z (see orientation.h)
   const BodyModel* model = nullptr;    // must outlive the call
-  std::optional<BodyParams> initial;   // e.g. from initialisePose; absent: rest pose at the scan's centroid
+  std::optional<BodyParams> initial;   // e.g. from keypoints; absent: initialisePose (pose_init.h)
 };
 
 struct BodyFitOptions {
@@ -44,7 +44,8 @@ struct BodyFitResult {
   std::vector<FitStageReport> stages;   // in order
   FitEnergyTerms energy;                // at the end, with the last correspondences
   double insideOrNear = 0;              // fraction of body vertices inside the scan or within 5 mm
-  double seconds = 0;                   // total, including the scan's spatial index
+  double seconds = 0;                   // total, including the scan's spatial index and pose initialisation
+  std::vector<std::string> warnings;    // e.g. pose initialisation failed and the rest pose was used
   double secondsByStage(const std::string& name) const;
 };
 

@@ -170,12 +170,13 @@ Extremities findExtremities(const TriMesh& scan, const BodyModel& model,
   const BoundingBox box = boundingBox(scan.V);
   const double H = box.extent().y(), y0 = box.min.y();
 
-  // Seeds: the torso's ring at chest height (vertices near the torso axis only, not the arms).
+  // Seeds: the torso's ring at waist height (vertices near the torso axis only, not the arms),
+  // about as far from the head top as from the crotch.
   std::vector<int> slabV;
   std::vector<double> xs, zs;
   for (int v = 0; v < scan.numVertices(); ++v) {
     const double h = (scan.V(v, 1) - y0) / H;
-    if (h >= 0.62 && h <= 0.70) {
+    if (h >= 0.57 && h <= 0.63) {
       slabV.push_back(v);
       xs.push_back(scan.V(v, 0));
       zs.push_back(scan.V(v, 2));
