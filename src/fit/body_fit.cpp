@@ -130,7 +130,7 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
       params.pose.translation += areaCentroid(input.scan) - areaCentroid(poser.pose(params).mesh);
     }
   }
-  FitEnergy energy(poser, params, options.weights, defaultJointLimits(model));
+  FitEnergy energy(poser, target, params, options.weights, defaultJointLimits(model));
 
   Eigen::VectorXd beta = params.shape;
   Eigen::VectorXd theta(3 * nj);
@@ -145,17 +145,23 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
     return p;
   };
 
-  enum class Stage { Translation, Shape, Pose };
-  for (int cycle = 0; cycle < options.cycles; ++cycle) {
-    for (Stage stage : {Stage::Translation, Stage::Shape, Stage::Pose}) {
-      if (stage == Stage::Shape && (!options.fitShape || ns == 0)) continue;
+  enum class Stage { Translation, Shape, Pose, All };
+  std::vector<std::pair<Stage, int>> schedule;  // (stage, cycle)
+  for (int cycle = 0; cycle < options.cycles; ++cycle)
+    for (Stage stage : {Stage::Translation, Stage::Shape, Stage::Pose})
+      if (stage != Stage::Shape || (options.fitShape && ns > 0)) schedule.emplace_back(stage, cycle);
+  if (options.finalSteps > 0) schedule.emplace_back(Stage::All, options.cycles);
+  for (const auto& [stage, cycle] : schedule) {
+    {
       FitStageReport report;
       report.name = stage == Stage::Translation ? "translation"
                     : stage == Stage::Shape     ? "shape"
-                                                : "pose";
+                    : stage == Stage::Pose      ? "pose"
+                                                : "all";
       report.cycle = cycle;
       const auto ts = Clock::now();
-      for (int step = 0; step < options.icpStepsPerStage; ++step) {
+      const int steps = stage == Stage::All ? options.finalSteps : options.icpStepsPerStage;
+      for (int step = 0; step < steps; ++step) {
         CorrespondenceOptions co;
         if (stage == Stage::Shape) co.pruneOutside = options.shapePruneOutside;
         energy.setCorrespondences(findCorrespondences(target, poser.pose(current()).mesh, co));
@@ -168,15 +174,16 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
         blocks.push_back(theta.data());
         blocks.push_back(t.data());
         problem.AddResidualBlock(new FitCost(energy, model), nullptr, blocks);
-        if (ns > 0 && stage != Stage::Shape) problem.SetParameterBlockConstant(beta.data());
-        if (ns > 0 && stage == Stage::Shape)
+        const bool fitBeta = stage == Stage::Shape || (stage == Stage::All && options.fitShape);
+        if (ns > 0 && !fitBeta) problem.SetParameterBlockConstant(beta.data());
+        if (ns > 0 && fitBeta)
           for (int s = 0; s < ns && s < static_cast<int>(model.shapeParams.size()); ++s) {
             // The model's stated range, widened to include the start.
             problem.SetParameterLowerBound(beta.data(), s, std::min(model.shapeParams[s].min, beta[s]));
             problem.SetParameterUpperBound(beta.data(), s, std::max(model.shapeParams[s].max, beta[s]));
           }
-        if (stage != Stage::Pose) problem.SetParameterBlockConstant(theta.data());
-        if (stage != Stage::Translation) problem.SetParameterBlockConstant(t.data());
+        if (stage != Stage::Pose && stage != Stage::All) problem.SetParameterBlockConstant(theta.data());
+        if (stage != Stage::Translation && stage != Stage::All) problem.SetParameterBlockConstant(t.data());
 
         ceres::Solver::Options so;
         so.minimizer_type = ceres::TRUST_REGION;

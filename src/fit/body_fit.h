@@ -22,7 +22,8 @@ struct BodyFitInput {
 
 struct BodyFitOptions {
   int cycles = 3;                   // translation → shape → pose cycles (BSE: 3)
-  int icpStepsPerStage = 2;         // closest points re-found this many times per stage
+  int icpStepsPerStage = 1;         // inside/outside re-decided this many times per stage
+  int finalSteps = 2;               // then ICP steps with β, θ, t all free (converges the coupled parameters)
   int maxIterations = 30;           // LM iterations per ICP step (BSE: 500, converged in 11–24)
   bool fitShape = true;             // false keeps β at its initial value
   double shapePruneOutside = 0.05;  // metres: outside vertices farther are ignored in the shape stage (BSE)
@@ -31,7 +32,7 @@ struct BodyFitOptions {
 };
 
 struct FitStageReport {
-  std::string name;      // "translation", "shape", "pose"
+  std::string name;      // "translation", "shape", "pose", "all" (the final joint refinement)
   int cycle = 0;
   double seconds = 0;
   int iterations = 0;    // LM iterations over the stage's ICP steps

@@ -72,20 +72,21 @@ JointLimits defaultJointLimits(const BodyModel& model) {
   return l;
 }
 
-FitEnergy::FitEnergy(const Poser& poser, const BodyParams& initial, const FitWeights& weights,
-                     JointLimits limits)
-    : poser_(poser), initial_(initial), w_(weights), limits_(std::move(limits)) {
+FitEnergy::FitEnergy(const Poser& poser, const ScanTarget& scan, const BodyParams& initial,
+                     const FitWeights& weights, JointLimits limits)
+    : poser_(poser), scan_(scan), initial_(initial), w_(weights), limits_(std::move(limits)) {
   const BodyModel& m = poser_.model();
   if (initial_.shape.size() == 0) initial_.shape = Eigen::VectorXd::Zero(m.numShapes());
   if (initial_.shape.size() != m.numShapes() || initial_.pose.axisAngle.rows() != m.numJoints())
     throw InputError("fit energy: the initial parameters do not match the body model " + m.source);
   if (limits_.lower.rows() != m.numJoints() || limits_.upper.rows() != m.numJoints())
     throw InputError("fit energy: joint limits must have one row per joint of " + m.source);
+  // β_s is measured by the RMS vertex displacement it causes, in units of shapeRms: the prior
+  // then means the same for every body source whatever its parameters' units.
   shapeScale_.resize(m.numShapes());
   for (int s = 0; s < m.numShapes(); ++s) {
-    const auto& sp = s < static_cast<int>(m.shapeParams.size()) ? m.shapeParams[s] : ShapeParam{};
-    const double sigma = (sp.max - sp.min) / 4;
-    shapeScale_[s] = sigma > 0 ? 1.0 / sigma : 1.0;
+    const double rms = m.shapeDirs.col(s).norm() / std::sqrt(std::max(1, m.numVertices()));
+    shapeScale_[s] = rms > 0 ? rms / w_.shapeRms : 1.0;
   }
   corr_.closest = Eigen::MatrixX3d::Zero(m.numVertices(), 3);
   corr_.distance = Eigen::VectorXd::Zero(m.numVertices());
@@ -105,7 +106,7 @@ void FitEnergy::setCorrespondences(Correspondences c) {
 
 int FitEnergy::numResiduals() const {
   const BodyModel& m = poser_.model();
-  return 3 * m.numVertices() + m.numShapes() + 6 * (m.numJoints() - 1);
+  return m.numVertices() + m.numShapes() + 6 * (m.numJoints() - 1);
 }
 
 void FitEnergy::evaluate(const BodyParams& params, Eigen::VectorXd* r, Eigen::MatrixXd* J,
@@ -116,37 +117,44 @@ void FitEnergy::evaluate(const BodyParams& params, Eigen::VectorXd* r, Eigen::Ma
   const PosedBody body = poser_.pose(params);
   const double scale = w_.referenceVertices / nv;
   const double sOut = std::sqrt(w_.out * scale), sIn = std::sqrt(w_.in * scale);
-  const double sig2 = w_.gmSigma * w_.gmSigma;
+  const double sig = w_.gmSigma, sig2 = sig * sig;
 
   r->setZero(numResiduals());
+  const int na = static_cast<int>(active_.size());
   Eigen::MatrixXd Jv;  // (3·#active)×P
   if (J) {
     J->setZero(numResiduals(), P);
-    if (needShapeAndPose && !active_.empty()) Jv = poser_.vertexJacobian(params, active_);
+    if (needShapeAndPose && na > 0) Jv = poser_.vertexJacobian(params, active_);
   }
-  const int na = static_cast<int>(active_.size());
+  // Closest scan points of the active vertices at this evaluation point (BSE recomputes the
+  // distances at every evaluation; only the side and the pruning stay fixed per ICP step).
+  Eigen::MatrixX3d Pa(na, 3);
+  for (int a = 0; a < na; ++a) Pa.row(a) = body.mesh.V.row(active_[a]);
+  const std::vector<ClosestHit> hits = scan_.query().closestPoints(Pa);
   tbb::parallel_for(0, na, [&](int a) {
     const int i = active_[a];
-    const Eigen::Vector3d d = (body.mesh.V.row(i) - corr_.closest.row(i)).transpose();
-    Eigen::Matrix3d D;  // ∂r_i/∂v_i
+    const Eigen::Vector3d d = Pa.row(a).transpose() - hits[a].point;
+    const double dist = d.norm();
+    double value, slope;  // residual and its derivative with respect to the distance
     if (corr_.side[i] == FitSide::Outside) {
-      r->segment<3>(3 * i) = sOut * d;
-      D = sOut * Eigen::Matrix3d::Identity();
+      value = sOut * dist;
+      slope = sOut;
     } else {
-      // √GM: r = √λ · σ/√(σ² + |d|²) · d, so |r|² = λ·GM(|d|²).
-      const double q = sig2 + d.squaredNorm();
-      const double g = w_.gmSigma / std::sqrt(q);
-      r->segment<3>(3 * i) = sIn * g * d;
-      D = sIn * (g * Eigen::Matrix3d::Identity() - (g / q) * d * d.transpose());
+      // √GM: r = √λ · σ·|d|/√(σ² + |d|²), so r² = λ·GM(|d|²).
+      const double q = sig2 + dist * dist;
+      value = sIn * sig * dist / std::sqrt(q);
+      slope = sIn * sig * sig2 / (q * std::sqrt(q));
     }
-    if (!J) return;
+    (*r)[i] = value;
+    if (!J || dist < 1e-12) return;
+    const Eigen::RowVector3d g = (slope / dist) * d.transpose();  // ∂r/∂v: the distance gradient
     if (needShapeAndPose)
-      J->middleRows<3>(3 * i) = D * Jv.middleRows<3>(3 * a);
+      J->row(i) = g * Jv.middleRows<3>(3 * a);
     else
-      J->block<3, 3>(3 * i, P - 3) = D;
+      J->block<1, 3>(i, P - 3) = g;
   });
 
-  int row = 3 * nv;
+  int row = nv;
   const Eigen::VectorXd beta = params.shape.size() ? params.shape : Eigen::VectorXd::Zero(ns);
   const double sShape = std::sqrt(w_.shape), sPose = std::sqrt(w_.pose), sLim = std::sqrt(w_.limits);
   for (int s = 0; s < ns; ++s, ++row) {
@@ -178,13 +186,13 @@ FitEnergyTerms FitEnergy::terms(const BodyParams& params) const {
   FitEnergyTerms t;
   const int nv = m.numVertices(), ns = m.numShapes(), np = 3 * (m.numJoints() - 1);
   for (int i = 0; i < nv; ++i) {
-    const double e = r.segment<3>(3 * i).squaredNorm();
+    const double e = r[i] * r[i];
     if (corr_.side[i] == FitSide::Outside) t.out += e;
     if (corr_.side[i] == FitSide::Inside) t.in += e;
   }
-  t.shape = r.segment(3 * nv, ns).squaredNorm();
-  t.pose = r.segment(3 * nv + ns, np).squaredNorm();
-  t.limits = r.segment(3 * nv + ns + np, np).squaredNorm();
+  t.shape = r.segment(nv, ns).squaredNorm();
+  t.pose = r.segment(nv + ns, np).squaredNorm();
+  t.limits = r.segment(nv + ns + np, np).squaredNorm();
   return t;
 }
 

@@ -1,9 +1,10 @@
 // The body-under-clothing energy of the paper's App. A (Eq. 7–10) as one residual vector with
 // an analytic Jacobian, for a Levenberg-Marquardt solver:
 //   E = λ_out Σ_{i outside} |v_i − c_i|² + λ_in Σ_{i inside} GM(|v_i − c_i|²)
-//     + λ_β |β / σ_β|² + λ_θ |θ − θ_init|² + λ_lim Σ (soft joint-limit excess)²
-// with c_i the closest scan point of body vertex i, held fixed during one ICP step (re-found
-// between steps), and the ICP heuristics of the paper's code (research note E §2): a vertex
+//     + λ_β |β·rms_β / ρ|² + λ_θ |θ − θ_init|² + λ_lim Σ (soft joint-limit excess)²
+// with c_i the closest scan point of body vertex i, recomputed at every evaluation as in the
+// paper's code; which term a vertex feeds (inside / outside / ignored) is decided once per ICP
+// step (winding numbers are costlier), with the ICP heuristics of the paper's code (research note E §2): a vertex
 // whose normal opposes the scan's (n_v·n_c ≤ 0) or that lies too far away is ignored.
 // Derivatives come from the posing Jacobian (Poser::vertexJacobian), never numeric.
 #pragma once
@@ -60,7 +61,8 @@ struct FitWeights {
   double out = 1.0;        // λ_out (BSE)
   double in = 0.1;         // λ_in (BSE in_verts_scaling_weight)
   double gmSigma = 0.05;   // metres: Geman-McClure scale, GM(s) = s·σ²/(σ² + s) (BSE: 2, quadratic in effect)
-  double shape = 0.01;     // λ_β (BSE) on β_s / σ_s, σ_s a quarter of the parameter's range
+  double shape = 0.01;     // λ_β (BSE) on β_s·rms_s/shapeRms, rms_s the RMS vertex displacement of a unit β_s
+  double shapeRms = 0.02;  // metres: RMS displacement counted as one unit of shape (≈ one SMPL β standard deviation)
   double pose = 0.01;      // λ_θ, identity covariance about θ_init, root excluded (BSE: 0.001·√Σ⁻¹ of SMPLify's GMM)
   double limits = 10.0;    // λ_lim on the excess over a joint's limits, radians
   double referenceVertices = 6890;  // data terms scaled by this/#V: the paper's balance at any template size
@@ -82,13 +84,14 @@ struct FitEnergyTerms {
 
 class FitEnergy {
  public:
-  // `poser` must outlive this; `initial` is θ_init of the pose prior.
-  FitEnergy(const Poser& poser, const BodyParams& initial, const FitWeights& weights,
-            JointLimits limits);
+  // `poser` and `scan` must outlive this; `initial` is θ_init of the pose prior.
+  FitEnergy(const Poser& poser, const ScanTarget& scan, const BodyParams& initial,
+            const FitWeights& weights, JointLimits limits);
 
   void setCorrespondences(Correspondences c);
   const Correspondences& correspondences() const { return corr_; }
-  // Residuals: [3 per body vertex (zero when ignored) | #S shape | 3(#J−1) pose | 3(#J−1) limits].
+  // Residuals: [1 per body vertex: √λ·|d| or √(λ·GM(|d|²)), zero when ignored | #S shape |
+  // 3(#J−1) pose | 3(#J−1) limits].
   int numResiduals() const;
   int numParams() const { return poser_.numParams(); }  // P = #S + 3#J + 3
   // r (numResiduals) and, when J is given, ∂r/∂params (numResiduals × P, order [β | θ | t]).
@@ -99,11 +102,12 @@ class FitEnergy {
 
  private:
   const Poser& poser_;
+  const ScanTarget& scan_;
   BodyParams initial_;
   FitWeights w_;
   JointLimits limits_;
   Correspondences corr_;
-  Eigen::VectorXd shapeScale_;  // #S: 1/σ_s
+  Eigen::VectorXd shapeScale_;  // #S: rms_s / shapeRms
   std::vector<int> active_;     // vertices not ignored
 };
 
