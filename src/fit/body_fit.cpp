@@ -2,7 +2,10 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <string>
 
@@ -70,6 +73,29 @@ Eigen::Vector3d areaCentroid(const TriMesh& m) {
   return a.sum() > 0 ? Eigen::Vector3d(c / a.sum()) : Eigen::Vector3d(m.V.colwise().mean());
 }
 
+// About `count` template vertices spread evenly over the surface: one per occupied cell of a
+// grid whose cell area is the surface area / count. Empty when the template is small enough.
+std::vector<int> sampleVertices(const TriMesh& rest, int count) {
+  if (count <= 0 || rest.numVertices() <= count) return {};
+  double cell = std::sqrt(surfaceArea(rest) / count);
+  std::vector<int> chosen;
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    std::map<std::array<long, 3>, int> cells;
+    for (int v = 0; v < rest.numVertices(); ++v) {
+      const std::array<long, 3> key = {std::lround(std::floor(rest.V(v, 0) / cell)),
+                                       std::lround(std::floor(rest.V(v, 1) / cell)),
+                                       std::lround(std::floor(rest.V(v, 2) / cell))};
+      cells.emplace(key, v);
+    }
+    chosen.clear();
+    for (const auto& [key, v] : cells) chosen.push_back(v);
+    if (static_cast<int>(chosen.size()) <= 1.3 * count) break;
+    cell *= 1.15;
+  }
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
 }  // namespace
 
 double BodyFitResult::secondsByStage(const std::string& name) const {
@@ -130,6 +156,7 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
       params.pose.translation += areaCentroid(input.scan) - areaCentroid(poser.pose(params).mesh);
     }
   }
+  const std::vector<int> subset = sampleVertices(model.rest, options.maxFitVertices);
   FitEnergy energy(poser, target, params, options.weights, defaultJointLimits(model));
 
   Eigen::VectorXd beta = params.shape;
@@ -164,7 +191,8 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
       for (int step = 0; step < steps; ++step) {
         CorrespondenceOptions co;
         if (stage == Stage::Shape) co.pruneOutside = options.shapePruneOutside;
-        energy.setCorrespondences(findCorrespondences(target, poser.pose(current()).mesh, co));
+        energy.setCorrespondences(
+            findCorrespondences(target, poser.pose(current()).mesh, co, subset.empty() ? nullptr : &subset));
 
         ceres::Problem::Options po;
         po.cost_function_ownership = ceres::TAKE_OWNERSHIP;

@@ -27,6 +27,7 @@ struct BodyFitOptions {
   int maxIterations = 30;           // LM iterations per ICP step (BSE: 500, converged in 11–24)
   bool fitShape = true;             // false keeps β at its initial value
   double shapePruneOutside = 0.05;  // metres: outside vertices farther are ignored in the shape stage (BSE)
+  int maxFitVertices = 3000;        // data terms on about this many evenly spread body vertices (0: all)
   FitWeights weights;
   int threads = 2;
 };

@@ -26,20 +26,35 @@ ScanTarget::ScanTarget(const TriMesh& scan)
     : mesh_(scan), query_(scan), faceNormals_(s2p::faceNormals(scan)) {}
 
 Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
-                                    const CorrespondenceOptions& opt) {
+                                    const CorrespondenceOptions& opt, const std::vector<int>* subset) {
   const int n = body.numVertices();
+  std::vector<int> all;
+  if (!subset) {
+    all.resize(n);
+    for (int i = 0; i < n; ++i) all[i] = i;
+  }
+  const std::vector<int>& use = subset ? *subset : all;
+  const int m = static_cast<int>(use.size());
   Correspondences c;
-  c.closest.resize(n, 3);
-  c.distance.resize(n);
+  c.closest = body.V;
+  c.distance = Eigen::VectorXd::Zero(n);
   c.side.assign(n, FitSide::Ignored);
-  const std::vector<ClosestHit> hits = scan.query().closestPoints(body.V);
-  const Eigen::VectorXd wn = scan.query().windingNumbers(body.V);
+  c.sampled = m;
+  Eigen::MatrixX3d P(m, 3);
+  for (int k = 0; k < m; ++k) {
+    if (use[k] < 0 || use[k] >= n)
+      throw InputError("correspondences: vertex " + std::to_string(use[k]) + " out of range");
+    P.row(k) = body.V.row(use[k]);
+  }
+  const std::vector<ClosestHit> hits = scan.query().closestPoints(P);
+  const Eigen::VectorXd wn = scan.query().windingNumbers(P);
   const Eigen::MatrixX3d N = vertexNormals(body);
-  for (int i = 0; i < n; ++i) {
-    const ClosestHit& h = hits[i];
+  for (int k = 0; k < m; ++k) {
+    const int i = use[k];
+    const ClosestHit& h = hits[k];
     c.closest.row(i) = h.point.transpose();
     c.distance[i] = h.distance;
-    const bool inside = wn[i] > 0.5;
+    const bool inside = wn[k] > 0.5;
     if (opt.normalTest && N.row(i).dot(scan.faceNormals().row(h.face)) <= 0) continue;
     if (h.distance > (inside ? opt.pruneInside : opt.pruneOutside)) continue;
     c.side[i] = inside ? FitSide::Inside : FitSide::Outside;
@@ -91,6 +106,7 @@ FitEnergy::FitEnergy(const Poser& poser, const ScanTarget& scan, const BodyParam
   corr_.closest = Eigen::MatrixX3d::Zero(m.numVertices(), 3);
   corr_.distance = Eigen::VectorXd::Zero(m.numVertices());
   corr_.side.assign(m.numVertices(), FitSide::Ignored);
+  corr_.sampled = m.numVertices();
 }
 
 void FitEnergy::setCorrespondences(Correspondences c) {
@@ -115,7 +131,7 @@ void FitEnergy::evaluate(const BodyParams& params, Eigen::VectorXd* r, Eigen::Ma
   const int nv = m.numVertices(), ns = m.numShapes(), nj = m.numJoints();
   const int P = poser_.numParams();
   const PosedBody body = poser_.pose(params);
-  const double scale = w_.referenceVertices / nv;
+  const double scale = w_.referenceVertices / std::max(1, corr_.sampled);
   const double sOut = std::sqrt(w_.out * scale), sIn = std::sqrt(w_.in * scale);
   const double sig = w_.gmSigma, sig2 = sig * sig;
 

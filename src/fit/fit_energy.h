@@ -26,6 +26,7 @@ struct Correspondences {
   Eigen::MatrixX3d closest;    // #V×3 closest scan point per body vertex
   Eigen::VectorXd distance;    // #V, metres
   std::vector<FitSide> side;   // #V: which term the vertex feeds
+  int sampled = 0;             // vertices considered (all, or a subset); data terms scale by 1/sampled
   int numOutside() const;
   int numInside() const;
 };
@@ -51,9 +52,10 @@ class ScanTarget {
 };
 
 // Closest point, inside / outside (winding number > 0.5: robust to holes) and the ICP
-// heuristics for every vertex of `body`.
+// heuristics for every vertex of `body`, or only for `subset` (the others are Ignored).
 Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
-                                    const CorrespondenceOptions& options = {});
+                                    const CorrespondenceOptions& options = {},
+                                    const std::vector<int>* subset = nullptr);
 
 // === Energy
 
@@ -65,7 +67,7 @@ struct FitWeights {
   double shapeRms = 0.02;  // metres: RMS displacement counted as one unit of shape (≈ one SMPL β standard deviation)
   double pose = 0.01;      // λ_θ, identity covariance about θ_init, root excluded (BSE: 0.001·√Σ⁻¹ of SMPLify's GMM)
   double limits = 10.0;    // λ_lim on the excess over a joint's limits, radians
-  double referenceVertices = 6890;  // data terms scaled by this/#V: the paper's balance at any template size
+  double referenceVertices = 6890;  // data terms scaled by this/#sampled: the paper's balance at any template size
 };
 
 // Per joint, bounds on the three axis-angle components (radians), soft (penalised) limits.

@@ -2,6 +2,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 #include <limits>
 #include <string>
 
@@ -118,7 +120,7 @@ Orientation estimateOrientation(const TriMesh& scan, const OrientationOptions& o
   const double horizontal = hEig.eigenvalues()[1];
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
   const Eigen::Vector3d major = eig.eigenvectors().col(2);
-  if (C(1, 1) < 1.5 * horizontal || std::abs(major.y()) < std::cos(30.0 * M_PI / 180.0))
+  if (C(1, 1) < 1.5 * horizontal || std::abs(major.y()) < std::cos(std::numbers::pi / 6))
     throw InputError(what + ": the vertical is not the main axis of the shape (vertical variance " +
                      fmt2(C(1, 1)) + " m², horizontal " + fmt2(horizontal) +
                      " m²): a person lying down, or not a person; rotate the scan so that the "

@@ -32,6 +32,8 @@ TEST_P(OrientationRotated, RecoversYawWithin10Degrees) {
   const double alpha = degrees * std::numbers::pi / 180;
   const TriMesh scan = rotateAboutVertical(posed(pose), alpha);
   const Orientation o = estimateOrientation(scan);
+  RecordProperty("yaw_error_deg", std::to_string(angleDiffDeg(o.yaw, -alpha)));
+  RecordProperty("confidence", std::to_string(o.confidence));
   EXPECT_LT(angleDiffDeg(o.yaw, -alpha), 10.0) << "yaw " << o.yaw * 180 / std::numbers::pi;
   EXPECT_GT(o.confidence, 0.3);
   EXPECT_NEAR(o.facing.y(), 0.0, 1e-12);
