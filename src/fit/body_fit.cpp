@@ -218,6 +218,7 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
         so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
         so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
         so.max_num_iterations = options.maxIterations;
+        so.function_tolerance = options.functionTolerance;
         so.num_threads = std::max(1, options.threads);
         so.logging_type = ceres::SILENT;
         so.minimizer_progress_to_stdout = false;
