@@ -93,7 +93,8 @@ void BM_FitClothed50k(benchmark::State& state) {
     benchmark::DoNotOptimize(o);
     cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   }
-  state.counters["process_cpu_s"] = cpu;  // both threads: ≈ 2× the wall time of a quiet 2-core machine
+  state.counters["process_cpu_s"] =
+      cpu;  // both threads: ≈ 2× the wall time of a quiet 2-core machine
   state.counters["scan_vertices"] = scan.numVertices();
   state.counters["body_vertices"] = m.numVertices();
   state.counters["orientation_s"] = orient;

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <map>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "core/error.h"
@@ -152,7 +152,8 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
     } catch (const InputError& e) {
       // No five extremities (limbs touching the body): BSE's translateTo, the rest body's
       // centroid onto the scan's.
-      result.warnings.push_back(std::string("pose initialisation failed, fitting from the rest pose: ") + e.what());
+      result.warnings.push_back(
+          std::string("pose initialisation failed, fitting from the rest pose: ") + e.what());
       params.pose.translation += areaCentroid(input.scan) - areaCentroid(poser.pose(params).mesh);
     }
   }
@@ -176,7 +177,8 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
   std::vector<std::pair<Stage, int>> schedule;  // (stage, cycle)
   for (int cycle = 0; cycle < options.cycles; ++cycle)
     for (Stage stage : {Stage::Translation, Stage::Shape, Stage::Pose})
-      if (stage != Stage::Shape || (options.fitShape && ns > 0)) schedule.emplace_back(stage, cycle);
+      if (stage != Stage::Shape || (options.fitShape && ns > 0))
+        schedule.emplace_back(stage, cycle);
   if (options.finalSteps > 0) schedule.emplace_back(Stage::All, options.cycles);
   for (const auto& [stage, cycle] : schedule) {
     {
@@ -191,8 +193,8 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
       for (int step = 0; step < steps; ++step) {
         CorrespondenceOptions co;
         if (stage == Stage::Shape) co.pruneOutside = options.shapePruneOutside;
-        energy.setCorrespondences(
-            findCorrespondences(target, poser.pose(current()).mesh, co, subset.empty() ? nullptr : &subset));
+        energy.setCorrespondences(findCorrespondences(target, poser.pose(current()).mesh, co,
+                                                      subset.empty() ? nullptr : &subset));
 
         ceres::Problem::Options po;
         po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
@@ -207,11 +209,15 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
         if (ns > 0 && fitBeta)
           for (int s = 0; s < ns && s < static_cast<int>(model.shapeParams.size()); ++s) {
             // The model's stated range, widened to include the start.
-            problem.SetParameterLowerBound(beta.data(), s, std::min(model.shapeParams[s].min, beta[s]));
-            problem.SetParameterUpperBound(beta.data(), s, std::max(model.shapeParams[s].max, beta[s]));
+            problem.SetParameterLowerBound(beta.data(), s,
+                                           std::min(model.shapeParams[s].min, beta[s]));
+            problem.SetParameterUpperBound(beta.data(), s,
+                                           std::max(model.shapeParams[s].max, beta[s]));
           }
-        if (stage != Stage::Pose && stage != Stage::All) problem.SetParameterBlockConstant(theta.data());
-        if (stage != Stage::Translation && stage != Stage::All) problem.SetParameterBlockConstant(t.data());
+        if (stage != Stage::Pose && stage != Stage::All)
+          problem.SetParameterBlockConstant(theta.data());
+        if (stage != Stage::Translation && stage != Stage::All)
+          problem.SetParameterBlockConstant(t.data());
 
         ceres::Solver::Options so;
         so.minimizer_type = ceres::TRUST_REGION;

@@ -15,40 +15,42 @@
 namespace s2p {
 
 struct BodyFitInput {
-  TriMesh scan;                        // metres, +Y up, facing +Z (see orientation.h)
-  const BodyModel* model = nullptr;    // must outlive the call
-  std::optional<BodyParams> initial;   // e.g. from keypoints; absent: initialisePose (pose_init.h)
+  TriMesh scan;                       // metres, +Y up, facing +Z (see orientation.h)
+  const BodyModel* model = nullptr;   // must outlive the call
+  std::optional<BodyParams> initial;  // e.g. from keypoints; absent: initialisePose (pose_init.h)
 };
 
 struct BodyFitOptions {
-  int cycles = 3;                   // translation → shape → pose cycles (BSE: 3)
-  int icpStepsPerStage = 1;         // inside/outside re-decided this many times per stage
-  int finalSteps = 2;               // then ICP steps with β, θ, t all free (converges the coupled parameters)
-  int maxIterations = 25;           // LM iterations per ICP step (BSE: 500, converged in 11–24)
-  double functionTolerance = 1e-5;  // relative cost change ending a solve (BSE: Ceres' default 1e-6)
-  bool fitShape = true;             // false keeps β at its initial value
-  double shapePruneOutside = 0.05;  // metres: outside vertices farther are ignored in the shape stage (BSE)
-  int maxFitVertices = 2000;        // data terms on about this many evenly spread body vertices (0: all)
+  int cycles = 3;            // translation → shape → pose cycles (BSE: 3)
+  int icpStepsPerStage = 1;  // inside/outside re-decided this many times per stage
+  int finalSteps = 2;  // then ICP steps with β, θ, t all free (converges the coupled parameters)
+  int maxIterations = 25;  // LM iterations per ICP step (BSE: 500, converged in 11–24)
+  double functionTolerance =
+      1e-5;              // relative cost change ending a solve (BSE: Ceres' default 1e-6)
+  bool fitShape = true;  // false keeps β at its initial value
+  double shapePruneOutside =
+      0.05;  // metres: outside vertices farther are ignored in the shape stage (BSE)
+  int maxFitVertices = 2000;  // data terms on about this many evenly spread body vertices (0: all)
   FitWeights weights;
   int threads = 2;
 };
 
 struct FitStageReport {
-  std::string name;      // "translation", "shape", "pose", "all" (the final joint refinement)
+  std::string name;  // "translation", "shape", "pose", "all" (the final joint refinement)
   int cycle = 0;
   double seconds = 0;
-  int iterations = 0;    // LM iterations over the stage's ICP steps
+  int iterations = 0;                    // LM iterations over the stage's ICP steps
   double costBefore = 0, costAfter = 0;  // Ceres cost ½Σr², first and last ICP step
 };
 
 struct BodyFitResult {
-  BodyParams params;                    // fitted β, θ, t
-  PosedBody body;                       // the posed, shaped body
-  std::vector<FitStageReport> stages;   // in order
-  FitEnergyTerms energy;                // at the end, with the last correspondences
-  double insideOrNear = 0;              // fraction of body vertices inside the scan or within 5 mm
-  double seconds = 0;                   // total, including the scan's spatial index and pose initialisation
-  std::vector<std::string> warnings;    // e.g. pose initialisation failed and the rest pose was used
+  BodyParams params;                   // fitted β, θ, t
+  PosedBody body;                      // the posed, shaped body
+  std::vector<FitStageReport> stages;  // in order
+  FitEnergyTerms energy;               // at the end, with the last correspondences
+  double insideOrNear = 0;             // fraction of body vertices inside the scan or within 5 mm
+  double seconds = 0;  // total, including the scan's spatial index and pose initialisation
+  std::vector<std::string> warnings;  // e.g. pose initialisation failed and the rest pose was used
   double secondsByStage(const std::string& name) const;
 };
 

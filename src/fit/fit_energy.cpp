@@ -26,7 +26,8 @@ ScanTarget::ScanTarget(const TriMesh& scan)
     : mesh_(scan), query_(scan), faceNormals_(s2p::faceNormals(scan)) {}
 
 Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
-                                    const CorrespondenceOptions& opt, const std::vector<int>* subset) {
+                                    const CorrespondenceOptions& opt,
+                                    const std::vector<int>* subset) {
   const int n = body.numVertices();
   std::vector<int> all;
   if (!subset) {
@@ -172,7 +173,8 @@ void FitEnergy::evaluate(const BodyParams& params, Eigen::VectorXd* r, Eigen::Ma
 
   int row = nv;
   const Eigen::VectorXd beta = params.shape.size() ? params.shape : Eigen::VectorXd::Zero(ns);
-  const double sShape = std::sqrt(w_.shape), sPose = std::sqrt(w_.pose), sLim = std::sqrt(w_.limits);
+  const double sShape = std::sqrt(w_.shape), sPose = std::sqrt(w_.pose),
+               sLim = std::sqrt(w_.limits);
   for (int s = 0; s < ns; ++s, ++row) {
     (*r)[row] = sShape * shapeScale_[s] * beta[s];
     if (J) (*J)(row, s) = sShape * shapeScale_[s];

@@ -4,8 +4,8 @@
 //     + λ_β |β·rms_β / ρ|² + λ_θ |θ − θ_init|² + λ_lim Σ (soft joint-limit excess)²
 // with c_i the closest scan point of body vertex i, recomputed at every evaluation as in the
 // paper's code; which term a vertex feeds (inside / outside / ignored) is decided once per ICP
-// step (winding numbers are costlier), with the ICP heuristics of the paper's code (research note E §2): a vertex
-// whose normal opposes the scan's (n_v·n_c ≤ 0) or that lies too far away is ignored.
+// step (winding numbers are costlier), with the ICP heuristics of the paper's code (research note E
+// §2): a vertex whose normal opposes the scan's (n_v·n_c ≤ 0) or that lies too far away is ignored.
 // Derivatives come from the posing Jacobian (Poser::vertexJacobian), never numeric.
 #pragma once
 
@@ -23,16 +23,17 @@ namespace s2p {
 enum class FitSide : signed char { Ignored = 0, Outside = 1, Inside = -1 };
 
 struct Correspondences {
-  Eigen::MatrixX3d closest;    // #V×3 closest scan point per body vertex
-  Eigen::VectorXd distance;    // #V, metres
-  std::vector<FitSide> side;   // #V: which term the vertex feeds
-  int sampled = 0;             // vertices considered (all, or a subset); data terms scale by 1/sampled
+  Eigen::MatrixX3d closest;   // #V×3 closest scan point per body vertex
+  Eigen::VectorXd distance;   // #V, metres
+  std::vector<FitSide> side;  // #V: which term the vertex feeds
+  int sampled = 0;  // vertices considered (all, or a subset); data terms scale by 1/sampled
   int numOutside() const;
   int numInside() const;
 };
 
 struct CorrespondenceOptions {
-  double pruneOutside = 1e9;  // metres: outside vertices farther than this are ignored (BSE: 0.05 in the shape stage, else off)
+  double pruneOutside = 1e9;  // metres: outside vertices farther than this are ignored (BSE: 0.05
+                              // in the shape stage, else off)
   double pruneInside = 1e9;   // metres: same for inside vertices (BSE: off)
   bool normalTest = true;     // ignore vertices whose normal opposes the scan's: n_v·n_c ≤ 0
 };
@@ -60,14 +61,19 @@ Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
 // === Energy
 
 struct FitWeights {
-  double out = 1.0;        // λ_out (BSE)
-  double in = 0.1;         // λ_in (BSE in_verts_scaling_weight)
-  double gmSigma = 0.05;   // metres: Geman-McClure scale, GM(s) = s·σ²/(σ² + s) (BSE: 2, quadratic in effect)
-  double shape = 0.01;     // λ_β (BSE) on β_s·rms_s/shapeRms, rms_s the RMS vertex displacement of a unit β_s
-  double shapeRms = 0.02;  // metres: RMS displacement counted as one unit of shape (≈ one SMPL β standard deviation)
-  double pose = 0.01;      // λ_θ, identity covariance about θ_init, root excluded (BSE: 0.001·√Σ⁻¹ of SMPLify's GMM)
-  double limits = 10.0;    // λ_lim on the excess over a joint's limits, radians
-  double referenceVertices = 6890;  // data terms scaled by this/#sampled: the paper's balance at any template size
+  double out = 1.0;  // λ_out (BSE)
+  double in = 0.1;   // λ_in (BSE in_verts_scaling_weight)
+  double gmSigma =
+      0.05;  // metres: Geman-McClure scale, GM(s) = s·σ²/(σ² + s) (BSE: 2, quadratic in effect)
+  double shape =
+      0.01;  // λ_β (BSE) on β_s·rms_s/shapeRms, rms_s the RMS vertex displacement of a unit β_s
+  double shapeRms = 0.02;  // metres: RMS displacement counted as one unit of shape (≈ one SMPL β
+                           // standard deviation)
+  double pose = 0.01;  // λ_θ, identity covariance about θ_init, root excluded (BSE: 0.001·√Σ⁻¹ of
+                       // SMPLify's GMM)
+  double limits = 10.0;  // λ_lim on the excess over a joint's limits, radians
+  double referenceVertices =
+      6890;  // data terms scaled by this/#sampled: the paper's balance at any template size
 };
 
 // Per joint, bounds on the three axis-angle components (radians), soft (penalised) limits.

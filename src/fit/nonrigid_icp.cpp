@@ -17,12 +17,15 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
   validateMesh(templ, "non-rigid ICP: template");
   validateMesh(target, "non-rigid ICP: target");
   if (opt.stiffness.empty() || opt.stiffness.size() != opt.landmarkWeight.size())
-    throw InputError("non-rigid ICP: the stiffness and landmark-weight schedules must be non-empty and of equal length");
+    throw InputError(
+        "non-rigid ICP: the stiffness and landmark-weight schedules must be non-empty and of equal "
+        "length");
   const int n = templ.numVertices();
   for (const auto& [v, p] : landmarks)
     if (v < 0 || v >= n || !p.allFinite())
       throw InputError("non-rigid ICP: landmark on vertex " + std::to_string(v) +
-                       " is out of range or not finite (template has " + std::to_string(n) + " vertices)");
+                       " is out of range or not finite (template has " + std::to_string(n) +
+                       " vertices)");
 
   // Unit bounding-box diagonal frame so that the schedule means the same at every scale.
   const BoundingBox box = boundingBox(templ.V);
@@ -49,8 +52,7 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
   for (int i = 0; i < n; ++i) X.block<3, 3>(4 * i, 0).setIdentity();
   auto deformed = [&] {
     Eigen::MatrixX3d V(n, 3);
-    for (int i = 0; i < n; ++i)
-      V.row(i) = Vt.row(i) * X.block<3, 3>(4 * i, 0) + X.row(4 * i + 3);
+    for (int i = 0; i < n; ++i) V.row(i) = Vt.row(i) * X.block<3, 3>(4 * i, 0) + X.row(4 * i + 3);
     return V;
   };
 
@@ -84,14 +86,15 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
       };
       for (int i = 0; i < n; ++i) {
         const ClosestHit& h = hits[i];
-        const bool ok = h.distance <= maxDist &&
-                        N.row(i).dot(targetNormals.row(h.face)) >= opt.minNormalDot;
+        const bool ok =
+            h.distance <= maxDist && N.row(i).dot(targetNormals.row(h.face)) >= opt.minNormalDot;
         addPoint(i, ok ? 1.0 : 0.0, h.point);  // explicit zeros keep the sparsity pattern
       }
       if (beta > 0)
         for (const auto& [v, p] : landmarks)
           addPoint(v, beta * beta, (p.transpose() - centre).transpose() * scale);
-      for (int i = 0; i < 4 * n; ++i) T.emplace_back(i, i, 1e-10);  // keeps unmatched patches solvable
+      for (int i = 0; i < 4 * n; ++i)
+        T.emplace_back(i, i, 1e-10);  // keeps unmatched patches solvable
       Eigen::SparseMatrix<double> A(4 * n, 4 * n);
       A.setFromTriplets(T.begin(), T.end());
       solver.compute(A);

@@ -19,17 +19,17 @@ struct NonrigidIcpOptions {
   // diagonal (menpo3d's schedule, research note E §7).
   std::vector<double> stiffness = {50, 20, 5, 2, 0.8, 0.5, 0.35, 0.2};
   std::vector<double> landmarkWeight = {5, 2, 0.5, 0, 0, 0, 0, 0};
-  double gamma = 1;               // weight of the translation column in the stiffness term
-  double maxDistance = 0.10;      // metres: farther correspondences get w = 0
-  double minNormalDot = 0.5;      // correspondences with n_template·n_target below get w = 0
+  double gamma = 1;           // weight of the translation column in the stiffness term
+  double maxDistance = 0.10;  // metres: farther correspondences get w = 0
+  double minNormalDot = 0.5;  // correspondences with n_template·n_target below get w = 0
   int maxInnerIterations = 10;
-  double tolerance = 1e-4;        // RMS change of X per entry (unit-diagonal frame) ending a step
+  double tolerance = 1e-4;  // RMS change of X per entry (unit-diagonal frame) ending a step
 };
 
 struct NonrigidIcpResult {
-  TriMesh mesh;               // the template deformed onto the target (faces of the template)
-  int iterations = 0;         // linear solves in total
-  double meanDistance = 0;    // metres, template vertices to the target at the end
+  TriMesh mesh;             // the template deformed onto the target (faces of the template)
+  int iterations = 0;       // linear solves in total
+  double meanDistance = 0;  // metres, template vertices to the target at the end
 };
 
 // Throws InputError for empty or invalid meshes, a schedule with different lengths or a

@@ -3,8 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <limits>
+#include <numbers>
 #include <string>
 
 #include "core/error.h"
@@ -105,7 +105,8 @@ Orientation estimateOrientation(const TriMesh& scan, const OrientationOptions& o
   const std::string what = "orientation: scan";
   if (scan.numVertices() < opt.minVertices || scan.numFaces() < opt.minVertices / 2)
     throw InputError(what + " has " + std::to_string(scan.numVertices()) + " vertices and " +
-                     std::to_string(scan.numFaces()) + " faces, far too few for a person (at least " +
+                     std::to_string(scan.numFaces()) +
+                     " faces, far too few for a person (at least " +
                      std::to_string(opt.minVertices) + " vertices); give a full-body scan");
   validateMesh(scan, what);
   const Samples s = sampleFaces(scan);

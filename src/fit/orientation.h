@@ -13,14 +13,14 @@
 namespace s2p {
 
 struct OrientationCue {
-  std::string name;   // "feet", "nose", "chest", "buttocks"
-  double vote = 0;    // signed support for the chosen facing, in metres of asymmetry
+  std::string name;  // "feet", "nose", "chest", "buttocks"
+  double vote = 0;   // signed support for the chosen facing, in metres of asymmetry
 };
 
 struct Orientation {
   Eigen::Vector3d facing = Eigen::Vector3d::UnitZ();  // unit, horizontal: where the person looks
-  double yaw = 0;             // radians: yawRotation(yaw) · facing = +Z
-  double confidence = 0;      // in [0, 1]: agreement of the cues times the torso's anisotropy
+  double yaw = 0;                                     // radians: yawRotation(yaw) · facing = +Z
+  double confidence = 0;  // in [0, 1]: agreement of the cues times the torso's anisotropy
   std::vector<OrientationCue> cues;
 };
 

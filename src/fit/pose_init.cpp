@@ -183,7 +183,8 @@ Extremities findExtremities(const TriMesh& scan, const BodyModel& model,
       zs.push_back(scan.V(v, 2));
     }
   }
-  if (slabV.empty()) throw InputError("pose initialisation: the scan has no surface at chest height");
+  if (slabV.empty())
+    throw InputError("pose initialisation: the scan has no surface at chest height");
   auto median = [](std::vector<double> a) {
     std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
     return a[a.size() / 2];
@@ -273,7 +274,8 @@ BodyParams solveInverseKinematics(const BodyModel& model, const BodyParams& star
                                   const PoseInitOptions& opt) {
   const int nj = model.numJoints();
   if (start.pose.axisAngle.rows() != nj)
-    throw InputError("inverse kinematics: the start pose does not match the body model " + model.source);
+    throw InputError("inverse kinematics: the start pose does not match the body model " +
+                     model.source);
   if (targets.empty()) throw InputError("inverse kinematics: no joint targets");
   for (const auto& t : targets)
     if (!t.position.allFinite() || !(t.weight >= 0))
@@ -307,8 +309,8 @@ BodyParams solveInverseKinematics(const BodyModel& model, const BodyParams& star
   return out;
 }
 
-BodyParams initialisePose(const TriMesh& scan, const BodyModel& model, const Eigen::VectorXd& shapeIn,
-                          const PoseInitOptions& opt) {
+BodyParams initialisePose(const TriMesh& scan, const BodyModel& model,
+                          const Eigen::VectorXd& shapeIn, const PoseInitOptions& opt) {
   const Eigen::VectorXd shape =
       shapeIn.size() ? shapeIn : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
   const Extremities e = findExtremities(scan, model, shape, opt);

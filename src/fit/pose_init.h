@@ -23,7 +23,8 @@ struct JointTarget {
 
 struct Extremities {
   Eigen::Vector3d headTop, leftHand, rightHand, leftFoot, rightFoot;  // scan points
-  std::vector<JointTarget> targets;  // joints found along the limbs (wrists, elbows, ankles, knees, head top)
+  std::vector<JointTarget>
+      targets;  // joints found along the limbs (wrists, elbows, ankles, knees, head top)
 };
 
 struct PoseInitOptions {

@@ -46,8 +46,8 @@ TEST(BodyFit, FitsUnderOffsetClothing_Slow) {
   const BodyModel& m = test::smallMannequin();
   const BodyParams truth = test::testParams(m, TestPose::APose, true, {0.0, 0.0, 0.0});
   const PosedBody target = poseBody(m, truth);
-  BodyFitInput in{.scan = test::offsetAlongNormals(target.mesh, 0.02), .model = &m,
-                  .initial = std::nullopt};
+  BodyFitInput in{
+      .scan = test::offsetAlongNormals(target.mesh, 0.02), .model = &m, .initial = std::nullopt};
   const BodyFitResult r = runBodyFit(in, {});
   const test::JointError e = test::canonicalJointError(r.body.canonical, target.canonical);
   RecordProperty("mean_joint_error_mm", std::to_string(1000 * e.mean));

@@ -44,8 +44,7 @@ TEST_P(OrientationRotated, RecoversYawWithin10Degrees) {
 
 INSTANTIATE_TEST_SUITE_P(Mannequin, OrientationRotated,
                          ::testing::Combine(::testing::Values(TestPose::Rest, TestPose::TPose,
-                                                              TestPose::Walking,
-                                                              TestPose::BentArm),
+                                                              TestPose::Walking, TestPose::BentArm),
                                             ::testing::Values(0.0, 37.0, 90.0, 180.0, 270.0)));
 
 TEST(Orientation, FeetPointForward) {
@@ -56,7 +55,8 @@ TEST(Orientation, FeetPointForward) {
 
 TEST(Orientation, RefusesPersonLyingDown) {
   TriMesh lying = posed(TestPose::Rest);
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
   lying.V = lying.V * R.transpose();
   try {
     estimateOrientation(lying);

@@ -22,8 +22,10 @@ TEST_P(PoseInitPoses, JointsWithin60mm) {
   const PosedBody target = poseBody(m, truth);
   const Extremities ex = findExtremities(target.mesh, m, {});
   // Left and right are told apart: the left hand is the one near the true left hand tip.
-  EXPECT_LT((ex.leftHand - target.canonical.row(int(Canonical::LeftHandTip)).transpose()).norm(), 0.08);
-  EXPECT_LT((ex.rightFoot - target.canonical.row(int(Canonical::RightToeTip)).transpose()).norm(), 0.12);
+  EXPECT_LT((ex.leftHand - target.canonical.row(int(Canonical::LeftHandTip)).transpose()).norm(),
+            0.08);
+  EXPECT_LT((ex.rightFoot - target.canonical.row(int(Canonical::RightToeTip)).transpose()).norm(),
+            0.12);
   const BodyParams init = initialisePose(target.mesh, m);
   const PosedBody got = poseBody(m, init);
   const test::JointError e = test::canonicalJointError(got.canonical, target.canonical);
