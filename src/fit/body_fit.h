@@ -23,14 +23,16 @@ struct BodyFitInput {
 struct BodyFitOptions {
   int cycles = 3;            // translation → shape → pose cycles (BSE: 3)
   int icpStepsPerStage = 1;  // inside/outside re-decided this many times per stage
-  int finalSteps = 2;  // then ICP steps with β, θ, t all free (converges the coupled parameters)
-  int maxIterations = 25;  // LM iterations per ICP step (BSE: 500, converged in 11–24)
-  double functionTolerance =
-      1e-5;              // relative cost change ending a solve (BSE: Ceres' default 1e-6)
+  // Then ICP steps with β, θ and t all free: converges the coupled parameters (our addition).
+  int finalSteps = 2;
+  int maxIterations = 25;  // LM iterations per ICP step (BSE: 500; its solves stop after 11–24)
+  // Relative cost change ending a solve (BSE: Ceres' default 1e-6).
+  double functionTolerance = 1e-5;
   bool fitShape = true;  // false keeps β at its initial value
-  double shapePruneOutside =
-      0.05;  // metres: outside vertices farther are ignored in the shape stage (BSE)
-  int maxFitVertices = 2000;  // data terms on about this many evenly spread body vertices (0: all)
+  // Metres: outside vertices farther than this are ignored in the shape stage (BSE).
+  double shapePruneOutside = 0.05;
+  // Data terms on about this many evenly spread body vertices (0: all of them).
+  int maxFitVertices = 2000;
   FitWeights weights;
   int threads = 2;
 };

@@ -32,10 +32,10 @@ struct Correspondences {
 };
 
 struct CorrespondenceOptions {
-  double pruneOutside = 1e9;  // metres: outside vertices farther than this are ignored (BSE: 0.05
-                              // in the shape stage, else off)
-  double pruneInside = 1e9;   // metres: same for inside vertices (BSE: off)
-  bool normalTest = true;     // ignore vertices whose normal opposes the scan's: n_v·n_c ≤ 0
+  // Metres: outside vertices farther than this are ignored (BSE: 0.05 in the shape stage).
+  double pruneOutside = 1e9;
+  double pruneInside = 1e9;  // metres: same for inside vertices (BSE: off)
+  bool normalTest = true;    // ignore vertices whose normal opposes the scan's: n_v·n_c ≤ 0
 };
 
 // The scan with what the correspondences need, built once per fit.
@@ -63,17 +63,20 @@ Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
 struct FitWeights {
   double out = 1.0;  // λ_out (BSE)
   double in = 0.1;   // λ_in (BSE in_verts_scaling_weight)
-  double gmSigma =
-      0.05;  // metres: Geman-McClure scale, GM(s) = s·σ²/(σ² + s) (BSE: 2, quadratic in effect)
-  double shape =
-      0.01;  // λ_β (BSE) on β_s·rms_s/shapeRms, rms_s the RMS vertex displacement of a unit β_s
-  double shapeRms = 0.02;  // metres: RMS displacement counted as one unit of shape (≈ one SMPL β
-                           // standard deviation)
-  double pose = 0.01;  // λ_θ, identity covariance about θ_init, root excluded (BSE: 0.001·√Σ⁻¹ of
-                       // SMPLify's GMM)
+  // Metres: Geman-McClure scale, GM(s) = s·σ²/(σ² + s). BSE uses 2 m, quadratic in effect; 5 cm
+  // makes loose clothing far from the body pull less.
+  double gmSigma = 0.05;
+  // λ_β (BSE) on β_s·rms_s/shapeRms, rms_s the RMS vertex displacement of a unit β_s, so the
+  // prior means the same for every body source whatever the units of its parameters.
+  double shape = 0.01;
+  double shapeRms = 0.02;  // metres: RMS displacement counted as one unit of shape
+  // λ_θ with identity covariance about θ_init, root excluded. BSE: 0.001·√Σ⁻¹ of SMPLify's
+  // pose GMM, which exists for SMPL only.
+  double pose = 0.01;
   double limits = 10.0;  // λ_lim on the excess over a joint's limits, radians
-  double referenceVertices =
-      6890;  // data terms scaled by this/#sampled: the paper's balance at any template size
+  // Data terms scaled by this / #sampled vertices: BSE's balance (6890 SMPL vertices) with
+  // priors at any template size.
+  double referenceVertices = 6890;
 };
 
 // Per joint, bounds on the three axis-angle components (radians), soft (penalised) limits.
