@@ -1,0 +1,331 @@
+#include "fit/pose_init.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <queue>
+#include <string>
+
+#include "body/posing.h"
+#include "core/error.h"
+#include "fit/fit_energy.h"
+
+namespace s2p {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Vertex adjacency with edge lengths (CSR), from the faces.
+struct Graph {
+  std::vector<int> start, nbr;
+  std::vector<double> len;
+};
+
+Graph buildGraph(const TriMesh& m) {
+  const int n = m.numVertices();
+  std::vector<std::pair<int, int>> e;
+  e.reserve(6 * m.numFaces());
+  for (int f = 0; f < m.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = m.F(f, k), b = m.F(f, (k + 1) % 3);
+      e.emplace_back(a, b);
+      e.emplace_back(b, a);
+    }
+  std::sort(e.begin(), e.end());
+  e.erase(std::unique(e.begin(), e.end()), e.end());
+  Graph g;
+  g.start.assign(n + 1, 0);
+  for (const auto& [a, b] : e) ++g.start[a + 1];
+  for (int i = 0; i < n; ++i) g.start[i + 1] += g.start[i];
+  g.nbr.resize(e.size());
+  g.len.resize(e.size());
+  for (size_t i = 0; i < e.size(); ++i) {
+    g.nbr[i] = e[i].second;
+    g.len[i] = (m.V.row(e[i].first) - m.V.row(e[i].second)).norm();
+  }
+  return g;
+}
+
+// Multi-source Dijkstra along mesh edges (an upper bound of the geodesic distance).
+Eigen::VectorXd dijkstra(const Graph& g, const std::vector<int>& sources) {
+  const int n = static_cast<int>(g.start.size()) - 1;
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(n, kInf);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+  for (int s : sources) {
+    d[s] = 0;
+    q.emplace(0.0, s);
+  }
+  while (!q.empty()) {
+    const auto [dv, v] = q.top();
+    q.pop();
+    if (dv > d[v]) continue;
+    for (int k = g.start[v]; k < g.start[v + 1]; ++k) {
+      const double nd = dv + g.len[k];
+      if (nd < d[g.nbr[k]]) {
+        d[g.nbr[k]] = nd;
+        q.emplace(nd, g.nbr[k]);
+      }
+    }
+  }
+  return d;
+}
+
+// Centroid of the vertices whose distance lies within ±width/2 of `at`; nullopt when empty.
+std::optional<Eigen::Vector3d> ringCentroid(const TriMesh& m, const Eigen::VectorXd& d, double at,
+                                            double width) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (int v = 0; v < m.numVertices(); ++v)
+    if (std::abs(d[v] - at) <= 0.5 * width) {
+      c += m.V.row(v).transpose();
+      ++n;
+    }
+  if (n == 0) return std::nullopt;
+  return Eigen::Vector3d(c / n);
+}
+
+Eigen::Vector3d row(const Eigen::MatrixX3d& M, Canonical c) {
+  return M.row(static_cast<int>(c)).transpose();
+}
+
+// Inverse kinematics as one Ceres cost: parameter blocks θ (3#J) and t (3).
+class IkCost : public ceres::CostFunction {
+ public:
+  IkCost(const Poser& poser, const Eigen::VectorXd& shape, const std::vector<JointTarget>& targets,
+         double prior, const JointLimits& limits)
+      : poser_(poser), shape_(shape), targets_(targets), prior_(std::sqrt(prior)), limits_(limits) {
+    const int nj = poser.model().numJoints();
+    set_num_residuals(3 * static_cast<int>(targets.size()) + 6 * (nj - 1));
+    mutable_parameter_block_sizes()->push_back(3 * nj);
+    mutable_parameter_block_sizes()->push_back(3);
+  }
+
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
+    const BodyModel& m = poser_.model();
+    const int nj = m.numJoints(), ns = m.numShapes();
+    BodyParams p;
+    p.shape = shape_;
+    p.pose = BodyPose::zero(nj);
+    for (int j = 0; j < nj; ++j)
+      for (int k = 0; k < 3; ++k) p.pose.axisAngle(j, k) = x[0][3 * j + k];
+    p.pose.translation = Eigen::Map<const Eigen::Vector3d>(x[1]);
+    const PosedBody body = poser_.pose(p);
+    Eigen::MatrixXd Jc;
+    if (jacobians) Jc = poser_.canonicalJacobian(p);
+    const int nr = num_residuals();
+    Eigen::Map<Eigen::VectorXd> r(residuals, nr);
+    r.setZero();
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    std::optional<Eigen::Map<RowMajor>> J0, J1;
+    if (jacobians && jacobians[0]) J0.emplace(jacobians[0], nr, 3 * nj).setZero();
+    if (jacobians && jacobians[1]) J1.emplace(jacobians[1], nr, 3).setZero();
+    int rowIdx = 0;
+    for (const JointTarget& t : targets_) {
+      const int c = static_cast<int>(t.joint);
+      const double s = std::sqrt(t.weight);
+      r.segment<3>(rowIdx) = s * (body.canonical.row(c).transpose() - t.position);
+      if (J0) J0->middleRows(rowIdx, 3) = s * Jc.block(3 * c, ns, 3, 3 * nj);
+      if (J1) J1->middleRows(rowIdx, 3) = s * Jc.block(3 * c, ns + 3 * nj, 3, 3);
+      rowIdx += 3;
+    }
+    for (int j = 1; j < nj; ++j)
+      for (int k = 0; k < 3; ++k, ++rowIdx) {
+        r[rowIdx] = prior_ * p.pose.axisAngle(j, k);
+        if (J0) (*J0)(rowIdx, 3 * j + k) = prior_;
+      }
+    const double sl = std::sqrt(10.0);
+    for (int j = 1; j < nj; ++j)
+      for (int k = 0; k < 3; ++k, ++rowIdx) {
+        const double a = p.pose.axisAngle(j, k);
+        const double ex = a > limits_.upper(j, k)   ? a - limits_.upper(j, k)
+                          : a < limits_.lower(j, k) ? a - limits_.lower(j, k)
+                                                    : 0.0;
+        r[rowIdx] = sl * ex;
+        if (J0 && ex != 0) (*J0)(rowIdx, 3 * j + k) = sl;
+      }
+    return r.allFinite();
+  }
+
+ private:
+  const Poser& poser_;
+  Eigen::VectorXd shape_;
+  std::vector<JointTarget> targets_;
+  double prior_;
+  JointLimits limits_;
+};
+
+}  // namespace
+
+Extremities findExtremities(const TriMesh& scan, const BodyModel& model,
+                            const Eigen::VectorXd& shapeIn, const PoseInitOptions& opt) {
+  if (scan.numVertices() < 100)
+    throw InputError("pose initialisation: the scan has " + std::to_string(scan.numVertices()) +
+                     " vertices, far too few for a person");
+  validateMesh(scan, "pose initialisation: scan");
+  const Eigen::VectorXd shape =
+      shapeIn.size() ? shapeIn : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
+  const BoundingBox box = boundingBox(scan.V);
+  const double H = box.extent().y(), y0 = box.min.y();
+
+  // Seeds: the torso's ring at waist height (vertices near the torso axis only, not the arms),
+  // about as far from the head top as from the crotch.
+  std::vector<int> slabV;
+  std::vector<double> xs, zs;
+  for (int v = 0; v < scan.numVertices(); ++v) {
+    const double h = (scan.V(v, 1) - y0) / H;
+    if (h >= 0.57 && h <= 0.63) {
+      slabV.push_back(v);
+      xs.push_back(scan.V(v, 0));
+      zs.push_back(scan.V(v, 2));
+    }
+  }
+  if (slabV.empty())
+    throw InputError("pose initialisation: the scan has no surface at chest height");
+  auto median = [](std::vector<double> a) {
+    std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
+    return a[a.size() / 2];
+  };
+  const double cx = median(xs), cz = median(zs);
+  const double radius = 0.13 * H / 1.75;
+  std::vector<int> seeds;
+  for (int v : slabV)
+    if (std::hypot(scan.V(v, 0) - cx, scan.V(v, 2) - cz) < radius) seeds.push_back(v);
+  if (seeds.empty()) seeds = slabV;
+
+  // Geodesic farthest points from the torso: five extremities.
+  const Graph g = buildGraph(scan);
+  Eigen::VectorXd dist = dijkstra(g, seeds);
+  std::vector<int> ext;
+  std::vector<Eigen::VectorXd> fromExt;
+  for (int k = 0; k < 5; ++k) {
+    int best = -1;
+    for (int v = 0; v < scan.numVertices(); ++v)
+      if (std::isfinite(dist[v]) && (best < 0 || dist[v] > dist[best])) best = v;
+    if (best < 0 || dist[best] < opt.minSeparation)
+      throw InputError("pose initialisation: found only " + std::to_string(k) +
+                       " extremities (head, hands, feet) separated by " +
+                       std::to_string(opt.minSeparation) +
+                       " m on the scan; the limbs may touch the body, or this is not a person");
+    ext.push_back(best);
+    fromExt.push_back(dijkstra(g, {best}));
+    dist = dist.cwiseMin(fromExt.back());
+  }
+
+  // Feet: the two lowest; head: the highest of the rest; left on +X.
+  std::vector<int> order = {0, 1, 2, 3, 4};
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return scan.V(ext[a], 1) < scan.V(ext[b], 1); });
+  auto x = [&](int i) { return scan.V(ext[i], 0); };
+  int lf = order[0], rf = order[1];
+  if (x(lf) < x(rf)) std::swap(lf, rf);
+  const int head = order[4];
+  int lh = order[2], rh = order[3];
+  if (x(lh) < x(rh)) std::swap(lh, rh);
+
+  Extremities out;
+  auto P = [&](int i) { return Eigen::Vector3d(scan.V.row(ext[i]).transpose()); };
+  out.headTop = P(head);
+  out.leftHand = P(lh);
+  out.rightHand = P(rh);
+  out.leftFoot = P(lf);
+  out.rightFoot = P(rf);
+
+  // Limb lengths of the shaped model in its rest pose, scaled to the scan's height.
+  BodyParams rest;
+  rest.shape = shape;
+  rest.pose = BodyPose::zero(model.numJoints());
+  const PosedBody rb = poseBody(model, rest);
+  const double scale = H / boundingBox(rb.mesh.V).extent().y();
+  auto len = [&](Canonical a, Canonical b) {
+    return scale * (row(rb.canonical, a) - row(rb.canonical, b)).norm();
+  };
+  struct Chain {
+    int ext;
+    Canonical tip;
+    std::vector<Canonical> joints;  // from the tip inwards
+  };
+  const std::vector<Chain> chains = {
+      {lh, Canonical::LeftHandTip, {Canonical::LeftWrist, Canonical::LeftElbow}},
+      {rh, Canonical::RightHandTip, {Canonical::RightWrist, Canonical::RightElbow}},
+      {lf, Canonical::LeftToeTip, {Canonical::LeftAnkle, Canonical::LeftKnee}},
+      {rf, Canonical::RightToeTip, {Canonical::RightAnkle, Canonical::RightKnee}},
+      {head, Canonical::HeadTop, {Canonical::Head}}};
+  for (const Chain& c : chains) {
+    out.targets.push_back({c.tip, P(c.ext), 0.5});
+    double along = 0;
+    Canonical prev = c.tip;
+    for (Canonical j : c.joints) {
+      along += len(prev, j);
+      prev = j;
+      const bool ankle = j == Canonical::LeftAnkle || j == Canonical::RightAnkle;
+      if (auto q = ringCentroid(scan, fromExt[c.ext], along, opt.ringWidth))
+        out.targets.push_back({j, *q, ankle ? 0.3 : 1.0});
+    }
+  }
+  return out;
+}
+
+BodyParams solveInverseKinematics(const BodyModel& model, const BodyParams& start,
+                                  const std::vector<JointTarget>& targets,
+                                  const PoseInitOptions& opt) {
+  const int nj = model.numJoints();
+  if (start.pose.axisAngle.rows() != nj)
+    throw InputError("inverse kinematics: the start pose does not match the body model " +
+                     model.source);
+  if (targets.empty()) throw InputError("inverse kinematics: no joint targets");
+  for (const auto& t : targets)
+    if (!t.position.allFinite() || !(t.weight >= 0))
+      throw InputError(std::string("inverse kinematics: target for ") + toString(t.joint) +
+                       " is not finite");
+  const Poser poser(model);
+  const Eigen::VectorXd shape =
+      start.shape.size() ? start.shape : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
+  Eigen::VectorXd theta(3 * nj);
+  for (int j = 0; j < nj; ++j) theta.segment<3>(3 * j) = start.pose.axisAngle.row(j).transpose();
+  Eigen::Vector3d t = start.pose.translation;
+
+  ceres::Problem problem;
+  problem.AddResidualBlock(
+      new IkCost(poser, shape, targets, opt.posePrior, defaultJointLimits(model)), nullptr,
+      theta.data(), t.data());
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = opt.maxIterations;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  if (summary.termination_type == ceres::FAILURE)
+    throw SolverError("inverse kinematics failed: " + summary.message);
+
+  BodyParams out;
+  out.shape = shape;
+  out.pose = BodyPose::zero(nj);
+  for (int j = 0; j < nj; ++j) out.pose.axisAngle.row(j) = theta.segment<3>(3 * j).transpose();
+  out.pose.translation = t;
+  return out;
+}
+
+BodyParams initialisePose(const TriMesh& scan, const BodyModel& model,
+                          const Eigen::VectorXd& shapeIn, const PoseInitOptions& opt) {
+  const Eigen::VectorXd shape =
+      shapeIn.size() ? shapeIn : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
+  const Extremities e = findExtremities(scan, model, shape, opt);
+  BodyParams start;
+  start.shape = shape;
+  start.pose = BodyPose::zero(model.numJoints());
+  // Start with the rest body's canonical centroid on the targets' centroid.
+  const PosedBody rb = poseBody(model, start);
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
+  for (const auto& t : e.targets) {
+    a += t.position;
+    b += row(rb.canonical, t.joint);
+  }
+  start.pose.translation = (a - b) / static_cast<double>(e.targets.size());
+  return solveInverseKinematics(model, start, e.targets, opt);
+}
+
+}  // namespace s2p

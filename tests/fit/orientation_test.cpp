@@ -1,0 +1,93 @@
+#include "fit/orientation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/shapes.h"
+#include "fit_test_bodies.h"
+
+namespace s2p {
+namespace {
+
+using test::TestPose;
+
+double angleDiffDeg(double a, double b) {
+  double d = std::remainder(a - b, 2 * std::numbers::pi);
+  return std::abs(d) * 180 / std::numbers::pi;
+}
+
+TriMesh posed(TestPose pose) {
+  const BodyModel& m = test::smallMannequin();
+  return poseBody(m, test::testParams(m, pose)).mesh;
+}
+
+class OrientationRotated : public ::testing::TestWithParam<std::tuple<TestPose, double>> {};
+
+// A body facing +Z turned by α about +Y faces (sin α, 0, cos α): the yaw bringing it back is −α.
+TEST_P(OrientationRotated, RecoversYawWithin10Degrees) {
+  const auto [pose, degrees] = GetParam();
+  const double alpha = degrees * std::numbers::pi / 180;
+  const TriMesh scan = rotateAboutVertical(posed(pose), alpha);
+  const Orientation o = estimateOrientation(scan);
+  RecordProperty("yaw_error_deg", std::to_string(angleDiffDeg(o.yaw, -alpha)));
+  RecordProperty("confidence", std::to_string(o.confidence));
+  EXPECT_LT(angleDiffDeg(o.yaw, -alpha), 10.0) << "yaw " << o.yaw * 180 / std::numbers::pi;
+  EXPECT_GT(o.confidence, 0.3);
+  EXPECT_NEAR(o.facing.y(), 0.0, 1e-12);
+  // Applying the yaw turns the facing direction to +Z.
+  EXPECT_GT((yawRotation(o.yaw) * o.facing).z(), 1 - 1e-9);
+  for (const auto& c : o.cues) RecordProperty(c.name, std::to_string(c.vote));
+}
+
+INSTANTIATE_TEST_SUITE_P(Mannequin, OrientationRotated,
+                         ::testing::Combine(::testing::Values(TestPose::Rest, TestPose::TPose,
+                                                              TestPose::Walking, TestPose::BentArm),
+                                            ::testing::Values(0.0, 37.0, 90.0, 180.0, 270.0)));
+
+TEST(Orientation, FeetPointForward) {
+  const Orientation o = estimateOrientation(posed(TestPose::Rest));
+  ASSERT_EQ(o.cues[0].name, "feet");
+  EXPECT_GT(o.cues[0].vote, 0.01);  // the sole's centroid lies > 1 cm ahead of the ankle's
+}
+
+TEST(Orientation, RefusesPersonLyingDown) {
+  TriMesh lying = posed(TestPose::Rest);
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  lying.V = lying.V * R.transpose();
+  try {
+    estimateOrientation(lying);
+    FAIL() << "a person lying down was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lying down"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Orientation, RefusesUpsideDown) {
+  TriMesh flipped = posed(TestPose::Rest);
+  flipped.V.col(1) = -flipped.V.col(1);
+  flipped.V.col(0) = -flipped.V.col(0);  // a rotation by π about Z keeps the orientation
+  try {
+    estimateOrientation(flipped);
+    FAIL() << "an upside-down person was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("upside down"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Orientation, RefusesSphereTinyMeshAndWrongUnits) {
+  EXPECT_THROW(estimateOrientation(makeIcosphere(3, 0.8)), InputError);
+  EXPECT_THROW(estimateOrientation(makeIcosphere(0, 0.9)), InputError);  // 12 vertices
+  TriMesh mm = posed(TestPose::Rest);
+  mm.V *= 1000.0;  // millimetres
+  EXPECT_THROW(estimateOrientation(mm), InputError);
+  TriMesh nan = posed(TestPose::Rest);
+  nan.V(3, 1) = std::nan("");
+  EXPECT_THROW(estimateOrientation(nan), InputError);
+}
+
+}  // namespace
+}  // namespace s2p
