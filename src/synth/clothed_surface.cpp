@@ -269,13 +269,15 @@ ClothedSurface makeClothedSurface(const BodyModel& model, const BodyParams& para
   {
     const std::vector<BodySample> s = field.samples(C);
     const Eigen::VectorXd area = faceAreas(mesh);
-    std::vector<LayerValue> values(layers.size());
     for (int f = 0; f < mesh.numFaces(); ++f) {
       if (out.faceLayer[f] < 0) continue;
-      layers.evaluate(C.row(f).transpose(), s[f], values.data());
-      for (int j = 0; j < layers.size(); ++j)
-        if (layers.layer(j).garment != out.faceLayer[f] && values[j].value < -0.001)
-          hidden(out.faceLayer[f], layers.layer(j).garment) += area[f];
+      // j lies under the visible garment where its body-following region covers the body.
+      for (int j = 0; j < layers.size(); ++j) {
+        const GarmentLayer& L = layers.layer(j);
+        if (L.garment != out.faceLayer[f] && L.fitted &&
+            L.region(layers.skeleton(), s[f].rest) > 0.002)
+          hidden(out.faceLayer[f], L.garment) += area[f];
+      }
     }
   }
   st.secondsLabels += since(t0);

@@ -3,6 +3,8 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <queue>
 #include <random>
 #include <string>
@@ -60,21 +62,46 @@ Eigen::VectorXi decimateMesh(TriMesh& mesh, int targetVertices) {
   std::vector<unsigned> idx(static_cast<std::size_t>(mesh.numFaces()) * 3);
   for (int f = 0; f < mesh.numFaces(); ++f)
     for (int k = 0; k < 3; ++k) idx[3 * f + k] = static_cast<unsigned>(mesh.F(f, k));
-  // A closed surface has F ≈ 2V faces (plus 2 per boundary loop and handle).
-  const std::size_t targetIndices = static_cast<std::size_t>(targetVertices) * 6;
-  std::vector<unsigned> outIdx(idx.size());
-  float error = 0;
-  const std::size_t n = meshopt_simplify(outIdx.data(), idx.data(), idx.size(), pos.data(), nv,
-                                         3 * sizeof(float), targetIndices, 1.0f, 0, &error);
-  std::vector<bool> used(nv, false);
-  for (std::size_t i = 0; i < n; ++i) used[outIdx[i]] = true;
-  TriMesh m;
-  m.V = mesh.V;
-  m.F.resize(static_cast<int>(n / 3), 3);
-  for (std::size_t i = 0; i < n; ++i) m.F(static_cast<int>(i / 3), static_cast<int>(i % 3)) = outIdx[i];
-  HoleCut c = compact(m, std::vector<bool>(m.numFaces(), true));
-  mesh = std::move(m);
-  return c.keptVertices;
+  // A closed surface has F ≈ 2V faces (plus 2 per boundary loop and handle). meshopt_simplify
+  // does not check the link condition: a collapse can fold two faces onto each other (a
+  // non-manifold fin). Such pairs are dropped; if the result is still not manifold, retry a
+  // little less aggressively.
+  const MeshTopology inputTopo(mesh.F, nv);
+  const bool inputManifold = inputTopo.manifoldness().isManifold();
+  std::size_t targetIndices = static_cast<std::size_t>(targetVertices) * 6;
+  TriMesh best;
+  HoleCut bestCut;
+  for (int attempt = 0; attempt < 6; ++attempt, targetIndices = targetIndices * 21 / 20) {
+    std::vector<unsigned> outIdx(idx.size());
+    float error = 0;
+    const std::size_t n = meshopt_simplify(outIdx.data(), idx.data(), idx.size(), pos.data(), nv,
+                                           3 * sizeof(float), targetIndices, 1.0f, 0, &error);
+    std::map<std::array<unsigned, 3>, int> seen;
+    for (std::size_t i = 0; i < n; i += 3) {
+      std::array<unsigned, 3> key{outIdx[i], outIdx[i + 1], outIdx[i + 2]};
+      std::sort(key.begin(), key.end());
+      ++seen[key];
+    }
+    TriMesh m;
+    m.V = mesh.V;
+    m.F.resize(static_cast<int>(n / 3), 3);
+    std::vector<bool> keep(n / 3, true);
+    for (std::size_t i = 0; i < n; i += 3) {
+      std::array<unsigned, 3> key{outIdx[i], outIdx[i + 1], outIdx[i + 2]};
+      std::sort(key.begin(), key.end());
+      keep[i / 3] = seen[key] == 1;
+      for (int k = 0; k < 3; ++k) m.F(static_cast<int>(i / 3), k) = static_cast<int>(outIdx[i + k]);
+    }
+    HoleCut c = compact(m, keep);
+    const MeshTopology topo(m.F, m.numVertices());
+    const bool ok = !inputManifold || (topo.manifoldness().isManifold() &&
+                                       topo.boundaryLoops().size() ==
+                                           inputTopo.boundaryLoops().size());
+    if (attempt == 0 || ok) best = std::move(m), bestCut = std::move(c);
+    if (ok) break;
+  }
+  mesh = std::move(best);
+  return bestCut.keptVertices;
 }
 
 void addNormalNoise(TriMesh& mesh, double sigma, std::uint64_t seed) {
@@ -105,7 +132,7 @@ HoleCut cutHoles(TriMesh& mesh, const std::vector<Eigen::Vector3d>& centres, dou
       auto inside = [&](int f) {
         for (int k = 0; k < 3; ++k)
           if ((mesh.V.row(mesh.F(f, k)).transpose() - s).norm() > r) return false;
-        return keep[f];
+        return static_cast<bool>(keep[f]);
       };
       for (int f : topo.vertexFaces(seed))
         if (inside(f)) inDisc[f] = true, todo.push(f);

@@ -124,6 +124,10 @@ double GarmentLayer::region(const RestSkeleton& skel, const Eigen::Vector3d& q) 
     return std::max(y - yForehead, zHead - q.z());
   }
   double r = std::min(y - yHem, yUpper - y);
+  if (neckRadius > 0) {
+    const double radial = Eigen::Vector2d(q.x() - neck.x(), q.z() - neck.z()).norm();
+    r = std::min({y - yHem, std::max(yUpper - y, radial - neckRadius), neck.y() - y});
+  }
   if (isArm(loc.part)) {
     const bool left = loc.part == BodyPart::LeftUpperArm || loc.part == BodyPart::LeftForearm ||
                       loc.part == BodyPart::LeftHand;
@@ -161,8 +165,8 @@ bool GarmentLayer::analyticBox(Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
   }
   for (const Cone& c : cones) {
     const double r = std::max(c.ra, c.rb);
-    lo = lo.cwiseMin(c.a.cwiseMin(c.b).array() - r).matrix();
-    hi = hi.cwiseMax(c.a.cwiseMax(c.b).array() + r).matrix();
+    lo = lo.cwiseMin((c.a.cwiseMin(c.b).array() - r).matrix());
+    hi = hi.cwiseMax((c.a.cwiseMax(c.b).array() + r).matrix());
   }
   for (const Box& b : boxes) {
     const Eigen::Vector3d ext = b.axes.cwiseAbs() * b.half;
@@ -234,17 +238,20 @@ GarmentLayers::GarmentLayers(const PosedBody& rest, const PosedBody& posed, cons
   std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 12345);
   std::uniform_real_distribution<double> uni(0, 1);
 
-  // Stacking order: clothing in outfit order with tucked-in tops under the lower garments,
-  // then shoes, hair, bag.
+  // Stacking order (§5.3): tucked-in tops under the lower garments, which lie under the other
+  // tops (an upper garment hangs over the lower one); then shoes, hair, bag. Within a rank the
+  // outfit's inner-to-outer order.
   std::vector<int> order;
-  for (int pass = 0; pass < 5; ++pass)
+  for (int pass = 0; pass < 6; ++pass)
     for (int g = 0; g < static_cast<int>(outfit.garments.size()); ++g) {
       const GarmentSpec& s = outfit.garments[g];
-      const int rank = s.type == GarmentType::Shoes ? 2
-                       : s.type == GarmentType::Hair ? 3
-                       : s.type == GarmentType::Bag  ? 4
-                       : (s.tuckedIn && labelOf(s.type) == Label::Upper) ? 0
-                                                                         : 1;
+      const Label label = labelOf(s.type);
+      const int rank = s.type == GarmentType::Shoes  ? 3
+                       : s.type == GarmentType::Hair ? 4
+                       : s.type == GarmentType::Bag  ? 5
+                       : label == Label::Lower       ? 1
+                       : s.tuckedIn                  ? 0
+                                                     : 2;
       if (rank == pass) order.push_back(g);
     }
   for (std::size_t i = 0; i < outfit.garments.size(); ++i) {
@@ -280,7 +287,7 @@ GarmentLayers::GarmentLayers(const PosedBody& rest, const PosedBody& posed, cons
       case GarmentType::TShirt:
         L.yHem = hipLineY - s.length;
         L.yUpper = necklineY;
-        L.armT = std::clamp(0.4 + s.length / lu, 0.05, 1.0);
+        L.armT = std::clamp(0.55 + s.length / lu, 0.05, 1.0);  // past the armpit crease
         break;
       case GarmentType::LongSleeveShirt:
         L.yHem = hipLineY - 0.02 * scale - s.length;
@@ -330,6 +337,10 @@ GarmentLayers::GarmentLayers(const PosedBody& rest, const PosedBody& posed, cons
         L.fitted = false;
         break;
     }
+    if (L.label == Label::Upper) {
+      L.neckRadius = (s.type == GarmentType::Jacket ? 0.08 : 0.075) * scale;
+      L.neck = row(rc, C::Neck);
+    }
     L.yTop = std::min(L.yUpper, headTopY);
     L.yBottom = std::max(L.yHem, 0.0);
     if (L.legT > 0) L.yBottom = L.legT <= 1 ? kneeY + (1 - L.legT) * (hipY - kneeY) : ankleY;
@@ -357,7 +368,7 @@ GarmentLayers::GarmentLayers(const PosedBody& rest, const PosedBody& posed, cons
                                                std::abs(p.z() - L.centre.y())));
       }
       rTop.array() += e;
-      const double flare = (s.type == GarmentType::LongSkirt ? 0.25 : 0.12) + 0.5 * s.looseness;
+      const double flare = (s.type == GarmentType::LongSkirt ? 0.15 : 0.08) + 0.3 * s.looseness;
       Eigen::Vector2d rBot = rTop * (1 + flare);
       // Grow top and bottom until every leg / hip point is inside by the ease.
       for (int it = 0; it < 200; ++it) {
@@ -379,19 +390,22 @@ GarmentLayers::GarmentLayers(const PosedBody& rest, const PosedBody& posed, cons
 
     // === Loose sleeves and trouser legs: cones around the posed limb axes.
     if (s.looseness > 0) {
-      const double widen = 0.08 * scale * s.looseness;
+      const double widen = 0.045 * scale * s.looseness;
       auto limb = [&](C a0, C a1, BodyPart part, double tEnd, double extraA, bool hem,
                       double prevR) {
-        const Eigen::Vector3d a = row(pc, a0), b1 = row(pc, a1);
-        const Eigen::Vector3d b = a + std::min(tEnd, 1.0) * (b1 - a);
+        // The loose part starts a third down the limb (above, the garment follows the body).
+        const Eigen::Vector3d j0 = row(pc, a0), b1 = row(pc, a1);
+        const double t0 = prevR > 0 ? 0.0 : 0.3;
+        const Eigen::Vector3d a = j0 + t0 * (b1 - j0);
+        const Eigen::Vector3d b = j0 + std::min(tEnd, 1.0) * (b1 - j0);
         GarmentLayer::Cone cone;
         cone.a = a;
         cone.b = b;
         cone.ra = prevR > 0 ? prevR
-                            : limbRadius(pm, parts, part, a, b1, 0.15) + s.ease + extraA;
-        cone.rb = limbRadius(pm, parts, part, a, b1, std::max(std::min(tEnd, 1.0) - 0.08, 0.1)) +
+                            : limbRadius(pm, parts, part, j0, b1, t0 + 0.05) + s.ease + extraA;
+        cone.rb = limbRadius(pm, parts, part, j0, b1, std::max(std::min(tEnd, 1.0) - 0.08, 0.1)) +
                   s.ease + widen;
-        cone.rb = std::max(cone.rb, cone.ra);
+        cone.rb = std::max(cone.rb, 0.9 * cone.ra);
         cone.hemAtB = hem;
         L.cones.push_back(cone);
         return cone.rb;
@@ -480,7 +494,8 @@ double GarmentLayers::stackedEase(int i, const Eigen::Vector3d& rest,
 
 void GarmentLayers::evaluate(const Eigen::Vector3d& p, const BodySample& body,
                              LayerValue* out) const {
-  std::vector<double> cache(layers_.size(), -1.0);
+  thread_local std::vector<double> cache;
+  cache.assign(layers_.size(), -1.0);
   for (int i = 0; i < size(); ++i) {
     const GarmentLayer& L = layers_[i];
     LayerValue v;

@@ -75,6 +75,9 @@ struct GarmentLayer {
   double yTop = 0, yBottom = 0;  // rest-pose vertical extent (for the ease gradient)
   double yHem = -1e9;            // rest-pose torso hem: region y > yHem
   double yUpper = 1e9;           // rest-pose upper cut (neckline, waistband): region y < yUpper
+  double neckRadius = 0;         // tops: y < yUpper OR farther than this from the neck axis
+                                 // (shoulders), and always below neckTop; 0 = flat cut only
+  Eigen::Vector3d neck = Eigen::Vector3d::Zero();  // rest neck joint (axis through it along y)
   double armT = -1;              // arm hem: < 0 no arm; [0,1] upper arm t; [1,2] forearm 1+t
   double legT = -1;              // leg hem: < 0 no leg; [0,1] thigh t; [1,2] shin 1+t
   bool feetOnly = false;         // shoes: foot and the shin below shoeT
