@@ -51,31 +51,38 @@ RestSkeleton::RestSkeleton(const Eigen::MatrixX3d& canonical) : canonical_(canon
                      " finite canonical points, got " + std::to_string(canonical.rows()));
   using C = Canonical;
   using P = BodyPart;
-  auto add = [&](C a, C b, P part) { bones_.push_back({point(a), point(b), part}); };
+  // Bones carry a typical flesh radius (metres at 1.75 m height): a point goes to the bone whose
+  // SURFACE is nearest, so the side of the torso is not taken for the arm hanging next to it.
+  const double scale =
+      std::max(point(C::HeadTop).y() - std::min(point(C::LeftHeel).y(), point(C::RightHeel).y()),
+               0.5) / 1.75;
+  auto add = [&](C a, C b, P part, double radius) {
+    bones_.push_back({point(a), point(b), part, radius * scale});
+  };
   // Main bones first: length(part) uses the first bone of each part.
-  add(C::Pelvis, C::Spine, P::Torso);
-  add(C::Spine, C::Chest, P::Torso);
-  add(C::Chest, C::Neck, P::Torso);
-  add(C::Pelvis, C::LeftHip, P::Torso);
-  add(C::Pelvis, C::RightHip, P::Torso);
-  add(C::Chest, C::LeftClavicle, P::Torso);
-  add(C::Chest, C::RightClavicle, P::Torso);
-  add(C::LeftClavicle, C::LeftShoulder, P::Torso);
-  add(C::RightClavicle, C::RightShoulder, P::Torso);
-  add(C::Neck, C::Head, P::Head);
-  add(C::Head, C::HeadTop, P::Head);
-  add(C::LeftShoulder, C::LeftElbow, P::LeftUpperArm);
-  add(C::RightShoulder, C::RightElbow, P::RightUpperArm);
-  add(C::LeftElbow, C::LeftWrist, P::LeftForearm);
-  add(C::RightElbow, C::RightWrist, P::RightForearm);
-  add(C::LeftWrist, C::LeftHandTip, P::LeftHand);
-  add(C::RightWrist, C::RightHandTip, P::RightHand);
-  add(C::LeftHip, C::LeftKnee, P::LeftThigh);
-  add(C::RightHip, C::RightKnee, P::RightThigh);
-  add(C::LeftKnee, C::LeftAnkle, P::LeftShin);
-  add(C::RightKnee, C::RightAnkle, P::RightShin);
-  add(C::LeftHeel, C::LeftToeTip, P::LeftFoot);
-  add(C::RightHeel, C::RightToeTip, P::RightFoot);
+  add(C::Pelvis, C::Spine, P::Torso, 0.12);
+  add(C::Spine, C::Chest, P::Torso, 0.12);
+  add(C::Chest, C::Neck, P::Torso, 0.09);
+  add(C::Pelvis, C::LeftHip, P::Torso, 0.09);
+  add(C::Pelvis, C::RightHip, P::Torso, 0.09);
+  add(C::Chest, C::LeftClavicle, P::Torso, 0.08);
+  add(C::Chest, C::RightClavicle, P::Torso, 0.08);
+  add(C::LeftClavicle, C::LeftShoulder, P::Torso, 0.05);
+  add(C::RightClavicle, C::RightShoulder, P::Torso, 0.05);
+  add(C::Neck, C::Head, P::Head, 0.06);
+  add(C::Head, C::HeadTop, P::Head, 0.07);
+  add(C::LeftShoulder, C::LeftElbow, P::LeftUpperArm, 0.045);
+  add(C::RightShoulder, C::RightElbow, P::RightUpperArm, 0.045);
+  add(C::LeftElbow, C::LeftWrist, P::LeftForearm, 0.035);
+  add(C::RightElbow, C::RightWrist, P::RightForearm, 0.035);
+  add(C::LeftWrist, C::LeftHandTip, P::LeftHand, 0.02);
+  add(C::RightWrist, C::RightHandTip, P::RightHand, 0.02);
+  add(C::LeftHip, C::LeftKnee, P::LeftThigh, 0.07);
+  add(C::RightHip, C::RightKnee, P::RightThigh, 0.07);
+  add(C::LeftKnee, C::LeftAnkle, P::LeftShin, 0.045);
+  add(C::RightKnee, C::RightAnkle, P::RightShin, 0.045);
+  add(C::LeftHeel, C::LeftToeTip, P::LeftFoot, 0.03);
+  add(C::RightHeel, C::RightToeTip, P::RightFoot, 0.03);
 }
 
 RestSkeleton::Location RestSkeleton::locate(const Eigen::Vector3d& q) const {
@@ -85,7 +92,7 @@ RestSkeleton::Location RestSkeleton::locate(const Eigen::Vector3d& q) const {
     const Eigen::Vector3d ab = b.b - b.a;
     const double len2 = std::max(ab.squaredNorm(), 1e-12);
     const double t = (q - b.a).dot(ab) / len2;
-    const double d = (q - (b.a + std::clamp(t, 0.0, 1.0) * ab)).squaredNorm();
+    const double d = (q - (b.a + std::clamp(t, 0.0, 1.0) * ab)).norm() - b.radius;
     if (d < bestD) {
       bestD = d;
       best = {b.part, t, std::sqrt(len2)};

@@ -44,6 +44,7 @@ class RestSkeleton {
   struct Bone {
     Eigen::Vector3d a, b;
     BodyPart part;
+    double radius;  // typical flesh radius around the bone, metres
   };
   Eigen::MatrixX3d canonical_;
   std::vector<Bone> bones_;
