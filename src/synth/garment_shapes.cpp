@@ -118,7 +118,11 @@ double GarmentLayer::easeAt(const Eigen::Vector3d& rest) const {
 }
 
 double GarmentLayer::region(const RestSkeleton& skel, const Eigen::Vector3d& q) const {
-  const RestSkeleton::Location loc = skel.locate(q);
+  return region(skel, skel.locate(q), q);
+}
+
+double GarmentLayer::region(const RestSkeleton& skel, const RestSkeleton::Location& loc,
+                            const Eigen::Vector3d& q) const {
   const double y = q.y();
   if (type == GarmentType::Shoes) {
     if (loc.part == BodyPart::LeftFoot || loc.part == BodyPart::RightFoot) return 0.05;
@@ -487,13 +491,14 @@ GarmentLayers::GarmentLayers(const PosedBody& rest, const PosedBody& posed, cons
 }
 
 double GarmentLayers::stackedEase(int i, const Eigen::Vector3d& rest,
+                                  const RestSkeleton::Location& loc,
                                   std::vector<double>& cache) const {
   if (cache[i] >= 0) return cache[i];
   const GarmentLayer& L = layers_[i];
   double e = L.easeAt(rest);
   for (int j : L.under) {
-    const double w = smoothstep(-0.03, 0.0, layers_[j].region(skeleton_, rest));
-    if (w > 0) e = std::max(e, w * (stackedEase(j, rest, cache) + kStackGap));
+    const double w = smoothstep(-0.03, 0.0, layers_[j].region(skeleton_, loc, rest));
+    if (w > 0) e = std::max(e, w * (stackedEase(j, rest, loc, cache) + kStackGap));
   }
   cache[i] = e;
   return e;
@@ -503,13 +508,15 @@ void GarmentLayers::evaluate(const Eigen::Vector3d& p, const BodySample& body,
                              LayerValue* out) const {
   thread_local std::vector<double> cache;
   cache.assign(layers_.size(), -1.0);
+  RestSkeleton::Location loc;
+  if (body.hasRest) loc = skeleton_.locate(body.rest);  // shared by every layer
   for (int i = 0; i < size(); ++i) {
     const GarmentLayer& L = layers_[i];
     LayerValue v;
     if (L.fitted) {
       if (body.hasRest)
-        v.value = std::max(body.d - stackedEase(i, body.rest, cache),
-                           -L.region(skeleton_, body.rest));
+        v.value = std::max(body.d - stackedEase(i, body.rest, loc, cache),
+                           -L.region(skeleton_, loc, body.rest));
       else
         v.value = body.d > 0 ? kFar : body.d;
     }

@@ -117,6 +117,9 @@ struct GarmentLayer {
   // Signed region function at a rest point: > 0 inside the garment's region, ≈ metres to its
   // nearest cut.
   double region(const RestSkeleton& skeleton, const Eigen::Vector3d& rest) const;
+  // Same with the point's bone location already known (skeleton.locate(rest)).
+  double region(const RestSkeleton& skeleton, const RestSkeleton::Location& loc,
+                const Eigen::Vector3d& rest) const;
   // Extent of the analytic parts (posed frame) for the level-set evaluation; empty when none.
   bool analyticBox(Eigen::Vector3d& lo, Eigen::Vector3d& hi) const;
 };
@@ -146,7 +149,8 @@ class GarmentLayers {
   Label labelAt(const Eigen::Vector3d& p, const BodySample& body) const;
 
  private:
-  double stackedEase(int i, const Eigen::Vector3d& rest, std::vector<double>& cache) const;
+  double stackedEase(int i, const Eigen::Vector3d& rest, const RestSkeleton::Location& loc,
+                     std::vector<double>& cache) const;
 
   RestSkeleton skeleton_;
   std::vector<GarmentLayer> layers_;
