@@ -25,6 +25,16 @@ struct GeometryOptions {
   std::uint64_t seed = 1;
 };
 
+// What the generator did (for reports and benchmarks).
+struct GeometryStats {
+  long activeVoxels = 0;        // voxels of the union level set
+  int levelSetVertices = 0;     // vertices of the level-set mesh before decimation
+  int removedComponents = 0;    // floating level-set pieces dropped (normally 0)
+  int holes = 0;                // holes actually cut
+  double secondsBody = 0, secondsUnion = 0, secondsLabels = 0, secondsDecimate = 0,
+         secondsBoundaries = 0, secondsCorrupt = 0;  // wall time per stage
+};
+
 struct ClothedSurface {
   TriMesh mesh;                  // closed, manifold, one component (unless holes were asked)
   Eigen::VectorXi vertexLabel;   // #V Label codes
@@ -35,7 +45,11 @@ struct ClothedSurface {
                                  // coordinates that follow the body through any pose)
   std::vector<TrueGarment> garments;     // one per outfit garment: label, one-piece, occlusion,
                                          // visible area
-  std::vector<TrueBoundary> boundaries;  // curves between every pair of adjacent labels
+  std::vector<TrueBoundary> boundaries;  // curves between every pair of adjacent labels; under
+                                         // a free-hanging hem the rim is reported as the
+                                         // garment|skin boundary and Gap|skin where the cap
+                                         // meets the legs
+  GeometryStats stats;
 };
 
 // Builds the clothed surface of `model` posed by `params`. Deterministic for a given seed.
