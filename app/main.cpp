@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   app::addScanCommands(app, commands);
   app::addBodyCommand(app, commands);
   app::addDemoCommand(app, commands);
+  app::addSynthCommands(app, commands);
 
   try {
     app.parse(argc, argv);

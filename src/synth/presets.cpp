@@ -55,7 +55,7 @@ std::vector<Preset> buildCatalogue() {
                    SynthPose::APose, {garment(G::TShirt, kRed), garment(G::Trousers, kDenim), shoes()}));
   c.push_back(make("longsleeve_shorts", "long-sleeve shirt and shorts, shoes, A-pose", 13931,
                    SynthPose::APose,
-                   {garment(G::LongSleeveShirt, kWhite, P::Stripes, kNavy, 0.03),
+                   {garment(G::LongSleeveShirt, kWhite, P::Stripes, kNavy, 0.07),
                     garment(G::Shorts, kKhaki), shoes()},
                    0.5));
   c.push_back(make("sleeveless_knee_skirt", "sleeveless top and knee-length skirt, A-pose", 31218,
@@ -64,7 +64,7 @@ std::vector<Preset> buildCatalogue() {
                    0.15));
   {
     Preset p = make("dress", "one-piece dress to the knees, shoes, A-pose", 25000,
-                    SynthPose::APose, {garment(G::Dress, kTeal, P::Dots, kWhite, 0.05), shoes()},
+                    SynthPose::APose, {garment(G::Dress, kTeal, P::Dots, kWhite, 0.10), shoes()},
                     0.6);
     p.options.outfit.garments[0].looseness = 0.4;
     c.push_back(p);
@@ -148,20 +148,20 @@ std::vector<Preset> buildCatalogue() {
   {
     Preset p = make("tall_slim", "taller, slimmer body (height +12, chest −6, waist −6 cm), dress",
                     24000, SynthPose::APose,
-                    {garment(G::Dress, kRed, P::Stripes, kWhite, 0.05), shoes()}, 0.1);
+                    {garment(G::Dress, kRed, P::Stripes, kWhite, 0.08), shoes()}, 0.1);
     p.options.shape = "height=12,chest=-6,waist=-6,hip=-4";
     c.push_back(p);
   }
   // Patterns.
   c.push_back(make("patterns", "checked shirt and striped trousers", 28000, SynthPose::APose,
-                   {garment(G::LongSleeveShirt, kRed, P::Checks, kWhite, 0.06),
-                    garment(G::Trousers, kNavy, P::Stripes, kGrey, 0.02), shoes()},
+                   {garment(G::LongSleeveShirt, kRed, P::Checks, kWhite, 0.14),
+                    garment(G::Trousers, kNavy, P::Stripes, kGrey, 0.08), shoes()},
                    0.3));
   // Corruptions.
   {
     Preset p = make("noise_holes", "scanner noise (σ 1.5 mm) and 4 holes (armpits, crotch, crown)",
                     40000, SynthPose::APose,
-                    {garment(G::TShirt, kGreen, P::Dots, kYellow, 0.04),
+                    {garment(G::TShirt, kGreen, P::Dots, kYellow, 0.09),
                      garment(G::Trousers, kKhaki), shoes()},
                     0.65);
     p.options.geometry.noise = 0.0015;

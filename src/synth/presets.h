@@ -1,7 +1,8 @@
 // The catalogue of named synthetic subjects, like the paper's 14 scanned subjects (Fig. 7 and
 // Fig. 18): outfits, the named hard cases (layered r/u, bag a, low contrast t, colour close to
 // skin), poses, body shapes, patterns and corruptions, each with a default vertex count between
-// 7k and 50k. bench/suite.json lists them with seeds for the benchmark.
+// 7k and 50k. bench/suite.json lists them with seeds for the benchmark. Pattern periods span
+// at least ~4 vertex spacings at the default count, so per-vertex PLY colours resolve them.
 #pragma once
 
 #include <cstdint>
