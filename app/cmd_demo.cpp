@@ -42,7 +42,9 @@ int runDemo(const fs::path& outDir, Progress& progress) {
 
 void addDemoCommand(CLI::App& app, Commands& out) {
   auto outDir = std::make_shared<std::string>("demo_out");
-  auto* cmd = app.add_subcommand("demo", "Synthesise a clothed scan of the built-in mannequin (with truth and previews) and run the main job on it");
+  auto* cmd = app.add_subcommand("demo",
+                                 "Synthesise a clothed scan of the built-in mannequin (with truth "
+                                 "and previews) and run the main job on it");
   cmd->add_option("-o,--output", *outDir, "Output folder")->capture_default_str();
   out.push_back({cmd, [outDir](Progress& progress) { return runDemo(*outDir, progress); }});
 }

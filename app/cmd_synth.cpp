@@ -83,6 +83,11 @@ int runSynth(const SynthArgs& a, Progress& progress) {
   const SynthFormat format = formatOf(a.format);
   SynthOptions o = presetOptions(a.preset);
   o.seed = a.seed;
+  if (a.model != o.bodySource && !o.shape.empty()) {
+    progress.message("note: preset " + a.preset + "'s body shape (" + o.shape +
+                     ") is in mannequin parameters; " + a.model + " keeps its mean shape");
+    o.shape.clear();
+  }
   o.bodySource = a.model;
   o.yawDegrees = a.yaw;
   if (a.vertices != 0) o.geometry.targetVertices = a.vertices;
@@ -92,12 +97,14 @@ int runSynth(const SynthArgs& a, Progress& progress) {
   const auto written =
       writeSynthScan(a.outDir, s, format, {.previews = !a.noPreviews, .previewHeightPx = 800});
   progress.end();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const ScanSummary r = summarise(s);
-  fmt::print("preset {} seed {}: {} vertices, {} faces, {} component(s), {}, {}, labels {} ({:.1f} s)\n",
-             a.preset, a.seed, r.vertices, r.faces, r.components,
-             r.closed ? "closed" : fmt::format("{} hole(s)", r.boundaryLoops),
-             r.manifold ? "manifold" : "NOT manifold", r.labels, seconds);
+  fmt::print(
+      "preset {} seed {}: {} vertices, {} faces, {} component(s), {}, {}, labels {} ({:.1f} s)\n",
+      a.preset, a.seed, r.vertices, r.faces, r.components,
+      r.closed ? "closed" : fmt::format("{} hole(s)", r.boundaryLoops),
+      r.manifold ? "manifold" : "NOT manifold", r.labels, seconds);
   std::string names;
   for (const auto& p : written) names += (names.empty() ? "" : ", ") + p.filename().string();
   fmt::print("wrote {}/: {}\n", a.outDir, names);

@@ -24,11 +24,17 @@ double latticeValue(std::int64_t i, std::int64_t j, std::int64_t k, std::uint64_
   return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0);
 }
 
-double fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
+double fade(double t) {
+  return t * t * t * (t * (t * 6 - 15) + 10);
+}
 
-double fract(double x) { return x - std::floor(x); }
+double fract(double x) {
+  return x - std::floor(x);
+}
 
-Eigen::Vector3d clamp01(const Eigen::Vector3d& c) { return c.cwiseMax(0.0).cwiseMin(1.0); }
+Eigen::Vector3d clamp01(const Eigen::Vector3d& c) {
+  return c.cwiseMax(0.0).cwiseMin(1.0);
+}
 
 }  // namespace
 
@@ -97,8 +103,8 @@ const std::vector<Eigen::Vector3d>& skinToneTable() {
 
 Eigen::Vector3d skinTone(double t) {
   const auto& table = skinToneTable();
-  const double x = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0) *
-                   static_cast<double>(table.size() - 1);
+  const double x =
+      std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0) * static_cast<double>(table.size() - 1);
   const auto i = std::min(static_cast<std::size_t>(x), table.size() - 2);
   const double f = x - static_cast<double>(i);
   return (1 - f) * table[i] + f * table[i + 1];
@@ -123,8 +129,7 @@ Appearance::Appearance(const Outfit& outfit, const AppearanceOptions& options)
     throw InputError("appearance: shading scale must be a positive length in metres");
   for (std::size_t i = 0; i < outfit.garments.size(); ++i) {
     const Look& l = outfit.garments[i].look;
-    if (!l.base.allFinite() || !l.second.allFinite() || !std::isfinite(l.period) ||
-        l.period <= 0)
+    if (!l.base.allFinite() || !l.second.allFinite() || !std::isfinite(l.period) || l.period <= 0)
       throw InputError("appearance: garment " + std::to_string(i) +
                        " has a non-finite colour or a non-positive pattern period");
     if (gapLayer_ < 0 && isFreeHanging(outfit.garments[i].type)) gapLayer_ = static_cast<int>(i);
@@ -173,7 +178,8 @@ Eigen::Vector3d Appearance::unshaded(int layer, Label label, const Eigen::Vector
     const double t = fractalNoise(q, subSeed(options_.seed, 12), 2);
     return outfit_.hair * (0.8 + 0.4 * t);
   }
-  return patternColour(g.look, rest, subSeed(options_.seed, 20 + static_cast<std::uint64_t>(layer)));
+  return patternColour(g.look, rest,
+                       subSeed(options_.seed, 20 + static_cast<std::uint64_t>(layer)));
 }
 
 Eigen::Vector3d Appearance::colour(int layer, Label label, const Eigen::Vector3d& rest,

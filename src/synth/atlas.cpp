@@ -54,10 +54,12 @@ AtlasLayout packAtlas(int numFaces, const AtlasOptions& options) {
   const long rows = (cells + L.columns - 1) / L.columns;
   L.cellPx = options.cellPx;
   if (L.cellPx == 0) {
-    const double fit = std::sqrt(static_cast<double>(options.maxPixels) / static_cast<double>(cells));
+    const double fit =
+        std::sqrt(static_cast<double>(options.maxPixels) / static_cast<double>(cells));
     L.cellPx = std::clamp(static_cast<int>(fit), minCell, 16);
   }
-  const double pixels = static_cast<double>(L.columns) * L.cellPx * static_cast<double>(rows) * L.cellPx;
+  const double pixels =
+      static_cast<double>(L.columns) * L.cellPx * static_cast<double>(rows) * L.cellPx;
   if (pixels * 3 > 2147483647.0)
     throw InputError("atlas: " + std::to_string(numFaces) +
                      " faces need a texture over 2^31 bytes; decimate the mesh or write PLY");
@@ -69,7 +71,7 @@ AtlasLayout packAtlas(int numFaces, const AtlasOptions& options) {
     const auto [x0, y0, s] = L.cellRect(L.cellOf(f));
     const auto corners = cornersOf(f % 2, s, L.gutterPx);
     for (int k = 0; k < 3; ++k) {
-      const double px = x0 + corners[k].x() + 0.5;                  // from the left
+      const double px = x0 + corners[k].x() + 0.5;                    // from the left
       const double rowFromTop = y0 + (s - 1 - corners[k].y()) + 0.5;  // from the top
       L.UV(3 * f + k, 0) = px / L.width;
       L.UV(3 * f + k, 1) = 1.0 - rowFromTop / L.height;

@@ -23,9 +23,9 @@ struct AtlasOptions {
 struct AtlasLayout {
   int width = 0, height = 0;  // image size in pixels
   int cellPx = 0, gutterPx = 0;
-  int columns = 0;            // cells per image row; cell c at column c % columns, row c / columns
-  Eigen::MatrixX2d UV;        // 3#F×2, OpenGL convention: row 3f+k is corner k of face f
-  Eigen::MatrixX3i FUV;       // #F×3 rows into UV
+  int columns = 0;       // cells per image row; cell c at column c % columns, row c / columns
+  Eigen::MatrixX2d UV;   // 3#F×2, OpenGL convention: row 3f+k is corner k of face f
+  Eigen::MatrixX3i FUV;  // #F×3 rows into UV
   // Face f lies in cell f / 2: even faces in the lower-left half, odd in the upper-right half.
   int cellOf(int face) const { return face / 2; }
   // Cell rectangle in pixels: {first column, first row from the top, side}.

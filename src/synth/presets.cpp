@@ -25,7 +25,9 @@ GarmentSpec garment(GarmentType type, const V3& base, PatternKind pattern = Patt
   return g;
 }
 
-GarmentSpec shoes() { return garment(GarmentType::Shoes, V3(0.12, 0.11, 0.10)); }
+GarmentSpec shoes() {
+  return garment(GarmentType::Shoes, V3(0.12, 0.11, 0.10));
+}
 
 // Named colours, sRGB.
 const V3 kNavy(0.12, 0.16, 0.32), kRed(0.72, 0.12, 0.14), kDenim(0.22, 0.32, 0.50),
@@ -33,8 +35,8 @@ const V3 kNavy(0.12, 0.16, 0.32), kRed(0.72, 0.12, 0.14), kDenim(0.22, 0.32, 0.5
     kGreen(0.20, 0.45, 0.28), kYellow(0.90, 0.76, 0.22), kGrey(0.50, 0.50, 0.52),
     kBurgundy(0.45, 0.10, 0.18), kTeal(0.10, 0.48, 0.50), kBrown(0.40, 0.27, 0.16);
 
-Preset make(const std::string& name, const std::string& description, int vertices,
-            SynthPose pose, std::vector<GarmentSpec> garments, double skinTone = 0.3) {
+Preset make(const std::string& name, const std::string& description, int vertices, SynthPose pose,
+            std::vector<GarmentSpec> garments, double skinTone = 0.3) {
   Preset p;
   p.name = name;
   p.description = description;
@@ -52,7 +54,8 @@ std::vector<Preset> buildCatalogue() {
   using P = PatternKind;
   // Paper Fig. 18 outfits.
   c.push_back(make("tshirt_trousers", "t-shirt and trousers, shoes, A-pose", 22531,
-                   SynthPose::APose, {garment(G::TShirt, kRed), garment(G::Trousers, kDenim), shoes()}));
+                   SynthPose::APose,
+                   {garment(G::TShirt, kRed), garment(G::Trousers, kDenim), shoes()}));
   c.push_back(make("longsleeve_shorts", "long-sleeve shirt and shorts, shoes, A-pose", 13931,
                    SynthPose::APose,
                    {garment(G::LongSleeveShirt, kWhite, P::Stripes, kNavy, 0.07),
@@ -63,9 +66,8 @@ std::vector<Preset> buildCatalogue() {
                    {garment(G::SleevelessTop, kYellow), garment(G::KneeSkirt, kNavy), shoes()},
                    0.15));
   {
-    Preset p = make("dress", "one-piece dress to the knees, shoes, A-pose", 25000,
-                    SynthPose::APose, {garment(G::Dress, kTeal, P::Dots, kWhite, 0.10), shoes()},
-                    0.6);
+    Preset p = make("dress", "one-piece dress to the knees, shoes, A-pose", 25000, SynthPose::APose,
+                    {garment(G::Dress, kTeal, P::Dots, kWhite, 0.10), shoes()}, 0.6);
     p.options.outfit.garments[0].looseness = 0.4;
     c.push_back(p);
   }
@@ -91,8 +93,8 @@ std::vector<Preset> buildCatalogue() {
     c.push_back(p);
   }
   {
-    Preset p = make("hair_over_neck", "long hair over the neck and shoulders (paper case r)",
-                    49483, SynthPose::APose,
+    Preset p = make("hair_over_neck", "long hair over the neck and shoulders (paper case r)", 49483,
+                    SynthPose::APose,
                     {garment(G::Hair, kBrown), garment(G::TShirt, kGreen),
                      garment(G::Trousers, kGrey), shoes()},
                     0.2);
@@ -107,21 +109,22 @@ std::vector<Preset> buildCatalogue() {
     // Upper and lower 6 ΔE*ab apart: hard for the colour model (paper case t).
     GarmentSpec top = garment(G::TShirt, kGrey);
     GarmentSpec bottom = garment(G::Trousers, colourNear(kGrey, 6.0, 41));
-    c.push_back(make("low_contrast", "upper and lower garments of nearly the same grey (paper case t)",
-                     14000, SynthPose::APose, {top, bottom, shoes()}, 0.3));
+    c.push_back(make("low_contrast",
+                     "upper and lower garments of nearly the same grey (paper case t)", 14000,
+                     SynthPose::APose, {top, bottom, shoes()}, 0.3));
   }
   {
     const V3 skin = s2p::skinTone(0.35);
-    Preset p = make("close_to_skin", "beige top 8 ΔE*ab from the skin tone, dark shorts", 7277,
-                    SynthPose::APose,
-                    {garment(G::SleevelessTop, colourNear(skin, 8.0, 7)),
-                     garment(G::Shorts, kNavy), shoes()},
-                    0.35);
+    Preset p = make(
+        "close_to_skin", "beige top 8 ΔE*ab from the skin tone, dark shorts", 7277,
+        SynthPose::APose,
+        {garment(G::SleevelessTop, colourNear(skin, 8.0, 7)), garment(G::Shorts, kNavy), shoes()},
+        0.35);
     c.push_back(p);
   }
   c.push_back(make("bare_feet", "t-shirt and shorts with bare feet (no shoes), dark skin", 10000,
-                   SynthPose::APose,
-                   {garment(G::TShirt, kYellow), garment(G::Shorts, kDenim)}, 0.9));
+                   SynthPose::APose, {garment(G::TShirt, kYellow), garment(G::Shorts, kDenim)},
+                   0.9));
   // Poses.
   c.push_back(make("tpose", "long-sleeve shirt and trousers in a T-pose", 18000, SynthPose::TPose,
                    {garment(G::LongSleeveShirt, kGreen), garment(G::Trousers, kKhaki), shoes()},
@@ -139,16 +142,16 @@ std::vector<Preset> buildCatalogue() {
                    0.8));
   // Body shapes (mannequin parameters, +1 = +1 cm).
   {
-    Preset p = make("plus_size", "fuller body (chest +12, waist +18, hip +12 cm), t-shirt and trousers",
-                    26000, SynthPose::APose,
-                    {garment(G::TShirt, kTeal), garment(G::Trousers, kBlack), shoes()}, 0.5);
+    Preset p = make(
+        "plus_size", "fuller body (chest +12, waist +18, hip +12 cm), t-shirt and trousers", 26000,
+        SynthPose::APose, {garment(G::TShirt, kTeal), garment(G::Trousers, kBlack), shoes()}, 0.5);
     p.options.shape = "chest=12,waist=18,hip=12,thigh=6,upper_arm=4";
     c.push_back(p);
   }
   {
-    Preset p = make("tall_slim", "taller, slimmer body (height +12, chest −6, waist −6 cm), dress",
-                    24000, SynthPose::APose,
-                    {garment(G::Dress, kRed, P::Stripes, kWhite, 0.08), shoes()}, 0.1);
+    Preset p =
+        make("tall_slim", "taller, slimmer body (height +12, chest −6, waist −6 cm), dress", 24000,
+             SynthPose::APose, {garment(G::Dress, kRed, P::Stripes, kWhite, 0.08), shoes()}, 0.1);
     p.options.shape = "height=12,chest=-6,waist=-6,hip=-4";
     c.push_back(p);
   }
@@ -159,11 +162,11 @@ std::vector<Preset> buildCatalogue() {
                    0.3));
   // Corruptions.
   {
-    Preset p = make("noise_holes", "scanner noise (σ 1.5 mm) and 4 holes (armpits, crotch, crown)",
-                    40000, SynthPose::APose,
-                    {garment(G::TShirt, kGreen, P::Dots, kYellow, 0.09),
-                     garment(G::Trousers, kKhaki), shoes()},
-                    0.65);
+    Preset p = make(
+        "noise_holes", "scanner noise (σ 1.5 mm) and 4 holes (armpits, crotch, crown)", 40000,
+        SynthPose::APose,
+        {garment(G::TShirt, kGreen, P::Dots, kYellow, 0.09), garment(G::Trousers, kKhaki), shoes()},
+        0.65);
     p.options.geometry.noise = 0.0015;
     p.options.geometry.holes = 4;
     c.push_back(p);
@@ -193,7 +196,9 @@ const Preset& preset(const std::string& name) {
                    " (scan2pattern synth --list describes them)");
 }
 
-SynthOptions presetOptions(const std::string& name) { return preset(name).options; }
+SynthOptions presetOptions(const std::string& name) {
+  return preset(name).options;
+}
 
 SynthOptions SuiteEntry::options() const {
   SynthOptions o = presetOptions(preset);
@@ -225,7 +230,9 @@ std::vector<SuiteEntry> readSuite(const std::filesystem::path& path) {
       s.vertices = e.value("vertices", 0);
       const std::string format = e.value("format", std::string("ply"));
       const auto f = parseSynthFormat(format);
-      if (!f) throw FormatError(fmt::format("{}: entry {} has format '{}' (ply or obj)", what, i, format));
+      if (!f)
+        throw FormatError(
+            fmt::format("{}: entry {} has format '{}' (ply or obj)", what, i, format));
       s.format = *f;
       s.scaling = e.value("scaling", false);
     } catch (const nlohmann::json::exception& ex) {
@@ -242,7 +249,8 @@ std::vector<SuiteEntry> readSuite(const std::filesystem::path& path) {
       throw FormatError(fmt::format("{}: entry '{}': {}", what, s.name, ex.what()));
     }
     if (s.vertices < 0 || s.vertices > 5'000'000)
-      throw FormatError(fmt::format("{}: entry '{}' asks for {} vertices", what, s.name, s.vertices));
+      throw FormatError(
+          fmt::format("{}: entry '{}' asks for {} vertices", what, s.name, s.vertices));
     out.push_back(s);
   }
   return out;

@@ -33,9 +33,9 @@ struct SuiteEntry {
   std::string name;    // output sub-folder, unique
   std::string preset;  // a preset name
   std::uint64_t seed = 1;
-  int vertices = 0;    // target vertex count (0: the preset's)
+  int vertices = 0;  // target vertex count (0: the preset's)
   SynthFormat format = SynthFormat::Ply;
-  bool scaling = false;  // a scaling entry (200k, 1M vertices), skipped on request
+  bool scaling = false;          // a scaling entry (200k, 1M vertices), skipped on request
   SynthOptions options() const;  // the preset's options with this seed and vertex count
 };
 // Missing file → IoError; bad JSON or entries (unknown preset, duplicate name) → FormatError.

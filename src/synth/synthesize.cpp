@@ -31,11 +31,19 @@ constexpr std::array<std::pair<SynthPose, const char*>, 5> kPoseNames = {{
     {SynthPose::BentArm, "bent_arm"},
 }};
 
-double deg(double d) { return d * std::numbers::pi / 180.0; }
+double deg(double d) {
+  return d * std::numbers::pi / 180.0;
+}
 
-Eigen::Matrix3d rotX(double d) { return Eigen::AngleAxisd(deg(d), Eigen::Vector3d::UnitX()).toRotationMatrix(); }
-Eigen::Matrix3d rotY(double d) { return Eigen::AngleAxisd(deg(d), Eigen::Vector3d::UnitY()).toRotationMatrix(); }
-Eigen::Matrix3d rotZ(double d) { return Eigen::AngleAxisd(deg(d), Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
+Eigen::Matrix3d rotX(double d) {
+  return Eigen::AngleAxisd(deg(d), Eigen::Vector3d::UnitX()).toRotationMatrix();
+}
+Eigen::Matrix3d rotY(double d) {
+  return Eigen::AngleAxisd(deg(d), Eigen::Vector3d::UnitY()).toRotationMatrix();
+}
+Eigen::Matrix3d rotZ(double d) {
+  return Eigen::AngleAxisd(deg(d), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
 
 int jointOf(const BodyModel& model, Canonical c) {
   const int j = model.canonical[static_cast<int>(c)].joint;
@@ -66,11 +74,12 @@ BodyPose armsBelowHorizontal(const BodyModel& model, const Eigen::VectorXd& shap
   return pose;
 }
 
-json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+json vec(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
 
 Eigen::Vector3d vecFrom(const json& j, const std::string& what) {
-  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() ||
-      !j[2].is_number())
+  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
     throw InputError("synth options: " + what + " must be [r, g, b]");
   return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
 }
@@ -101,10 +110,10 @@ BodyPose synthPose(const BodyModel& model, const Eigen::VectorXd& shape, SynthPo
       return armsBelowHorizontal(model, shape, 72);
     case SynthPose::Walking: {
       BodyPose pose = armsBelowHorizontal(model, shape, 70);
-      rotateJoint(model, shape, pose, Canonical::LeftHip, rotX(-22));   // thigh forwards (+Z)
-      rotateJoint(model, shape, pose, Canonical::RightHip, rotX(14));   // thigh backwards
-      rotateJoint(model, shape, pose, Canonical::RightKnee, rotX(28));  // shin further back
-      rotateJoint(model, shape, pose, Canonical::LeftShoulder, rotX(14));   // arms swing against
+      rotateJoint(model, shape, pose, Canonical::LeftHip, rotX(-22));        // thigh forwards (+Z)
+      rotateJoint(model, shape, pose, Canonical::RightHip, rotX(14));        // thigh backwards
+      rotateJoint(model, shape, pose, Canonical::RightKnee, rotX(28));       // shin further back
+      rotateJoint(model, shape, pose, Canonical::LeftShoulder, rotX(14));    // arms swing against
       rotateJoint(model, shape, pose, Canonical::RightShoulder, rotX(-14));  // the legs
       return pose;
     }
@@ -142,7 +151,8 @@ json synthOptionsToJson(const SynthOptions& o) {
           {"body_source", o.bodySource},
           {"shape", o.shape},
           {"pose", toString(o.pose)},
-          {"outfit", {{"garments", garments}, {"skin", vec(o.outfit.skin)}, {"hair", vec(o.outfit.hair)}}},
+          {"outfit",
+           {{"garments", garments}, {"skin", vec(o.outfit.skin)}, {"hair", vec(o.outfit.hair)}}},
           {"geometry",
            {{"voxel_size", g.voxelSize},
             {"target_vertices", g.targetVertices},
@@ -227,9 +237,9 @@ void validate(const SynthOptions& o) {
         "synth: target vertex count {} is out of range: use 0 (no decimation) up to 5000000",
         g.targetVertices));
   if (g.targetVertices > 0 && g.targetVertices < 1000)
-    throw InputError(fmt::format(
-        "synth: target vertex count {} is too small for a person: use at least 1000",
-        g.targetVertices));
+    throw InputError(
+        fmt::format("synth: target vertex count {} is too small for a person: use at least 1000",
+                    g.targetVertices));
   if (!std::isfinite(g.voxelSize) || g.voxelSize <= 0 || g.voxelSize > 0.05)
     throw InputError("synth: voxel size must be in (0, 0.05] metres");
   if (!std::isfinite(g.noise) || g.noise < 0 || g.noise > 0.02)
@@ -261,7 +271,8 @@ SynthScan synthesize(const BodyModel& model, const SynthOptions& options, Progre
   GeometryOptions geometry = options.geometry;
   geometry.seed = subSeed(options.seed, 1);
   geometry.voxelSize = voxelSizeFor(geometry.targetVertices, geometry.voxelSize);
-  const ClothedSurface surface = makeClothedSurface(model, params, options.outfit, geometry, progress);
+  const ClothedSurface surface =
+      makeClothedSurface(model, params, options.outfit, geometry, progress);
   progress.begin("colours and truth");
   SynthScan out = assembleSynthScan(model, params, surface, options);
   progress.end();
@@ -305,7 +316,8 @@ SynthScan assembleSynthScan(const BodyModel& model, const BodyParams& params,
   if (yawed.shape.size() == 0) yawed.shape = Eigen::VectorXd::Zero(model.numShapes());
   const Eigen::Vector3d j0 = restJoints(model, yawed.shape).row(0).transpose();
   yawed.pose.axisAngle.row(0) =
-      matrixToAxisAngle(R * axisAngleToMatrix(params.pose.axisAngle.row(0).transpose())).transpose();
+      matrixToAxisAngle(R * axisAngleToMatrix(params.pose.axisAngle.row(0).transpose()))
+          .transpose();
   yawed.pose.translation = R * params.pose.translation + R * j0 - j0;
   const PosedBody posed = poseBody(model, yawed);
 
@@ -331,13 +343,20 @@ std::optional<SynthFormat> parseSynthFormat(std::string_view name) {
 
 Rgb labelPreviewColour(Label label) {
   switch (label) {
-    case Label::Skin: return {222, 184, 135};
-    case Label::Upper: return {210, 40, 40};
-    case Label::Lower: return {40, 70, 200};
-    case Label::Shoes: return {60, 60, 60};
-    case Label::Hair: return {110, 70, 30};
-    case Label::Other: return {40, 160, 60};
-    case Label::Gap: return {240, 220, 30};
+    case Label::Skin:
+      return {222, 184, 135};
+    case Label::Upper:
+      return {210, 40, 40};
+    case Label::Lower:
+      return {40, 70, 200};
+    case Label::Shoes:
+      return {60, 60, 60};
+    case Label::Hair:
+      return {110, 70, 30};
+    case Label::Other:
+      return {40, 160, 60};
+    case Label::Gap:
+      return {240, 220, 30};
   }
   return {255, 0, 255};
 }
@@ -375,8 +394,9 @@ Texture synthTexture(const SynthScan& s) {
       base += b[k] * s.scan.colour.row(v).transpose();
       detail += b[k] * cornerDetail[f][k];
     }
-    return base + s.appearance.colour(s.faceLayer(f), static_cast<Label>(s.faceLabel(f)), rest,
-                                      faceN.row(f).transpose()) -
+    return base +
+           s.appearance.colour(s.faceLayer(f), static_cast<Label>(s.faceLabel(f)), rest,
+                               faceN.row(f).transpose()) -
            detail;
   };
   Texture t = bakeAtlas(nf, colour);
@@ -386,8 +406,8 @@ Texture synthTexture(const SynthScan& s) {
 
 std::vector<fs::path> writeSynthScan(const fs::path& dir, const SynthScan& s, SynthFormat format,
                                      const SynthWriteOptions& options) {
-  if (s.scan.colour.rows() != s.scan.mesh.V.rows() || s.vertexLabel.size() != s.scan.mesh.V.rows() ||
-      s.faceLabel.size() != s.scan.mesh.F.rows())
+  if (s.scan.colour.rows() != s.scan.mesh.V.rows() ||
+      s.vertexLabel.size() != s.scan.mesh.V.rows() || s.faceLabel.size() != s.scan.mesh.F.rows())
     throw InputError("writeSynthScan: colours or labels do not match the scan's mesh");
   // === Everything in memory first.
   Truth truth = s.truth;

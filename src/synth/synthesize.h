@@ -26,28 +26,28 @@ namespace s2p {
 
 // === Poses: standardPose + axis-angle edits on canonical joints.
 enum class SynthPose {
-  APose,    // arms 45° below horizontal
-  TPose,    // arms horizontal
-  ArmsDown, // arms 70° below horizontal: down, yet clear of the torso
-  Walking,  // mid-stride: left leg forward, right leg back with the knee bent, arms swinging
-  BentArm,  // A-pose with the left elbow bent 90° forwards
+  APose,     // arms 45° below horizontal
+  TPose,     // arms horizontal
+  ArmsDown,  // arms 70° below horizontal: down, yet clear of the torso
+  Walking,   // mid-stride: left leg forward, right leg back with the knee bent, arms swinging
+  BentArm,   // A-pose with the left elbow bent 90° forwards
 };
 const char* toString(SynthPose pose);  // "apose", "tpose", "arms_down", "walking", "bent_arm"
 std::optional<SynthPose> parseSynthPose(std::string_view name);
 BodyPose synthPose(const BodyModel& model, const Eigen::VectorXd& shape, SynthPose pose);
 
 struct SynthOptions {
-  std::string preset = "custom";        // recorded in truth.json
+  std::string preset = "custom";         // recorded in truth.json
   std::string bodySource = "mannequin";  // "mannequin" | "mpfb2:DIR" | "smpl:FILE" (loadBodyModel)
-  std::string shape;                    // "name=value,..." (parseShapeAssignments); empty: β = 0
+  std::string shape;                     // "name=value,..." (parseShapeAssignments); empty: β = 0
   SynthPose pose = SynthPose::APose;
   Outfit outfit;
   // voxelSize is lowered automatically when targetVertices needs a finer level set;
   // geometry.seed is derived from `seed`.
   GeometryOptions geometry;
-  bool gapColours = false;   // gap faces get meaningless blotches (§5.2) instead of the inside
-  double shading = 0.06;     // ± multiplicative shading noise
-  double yawDegrees = 0;     // scan and truth rotated about +Y (orientation tests)
+  bool gapColours = false;  // gap faces get meaningless blotches (§5.2) instead of the inside
+  double shading = 0.06;    // ± multiplicative shading noise
+  double yawDegrees = 0;    // scan and truth rotated about +Y (orientation tests)
   std::uint64_t seed = 1;
 };
 

@@ -1,11 +1,11 @@
 // `scan2pattern synth` and `bench-suite` end to end: the preset list, the exit code of an unknown
 // preset, and a generated scan whose labels agree with its truth.json.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <sys/wait.h>
 
 #include "io/read_ply.h"
 #include "test_support.h"

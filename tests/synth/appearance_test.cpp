@@ -35,18 +35,23 @@ TEST(Pattern, StripesAlternateWithThePeriodAlongY) {
   EXPECT_EQ(transitions, 40);
   // Half a period apart: the other colour; a whole period apart: the same.
   const Eigen::Vector3d p(0.3, 0.61, 0.2);
-  EXPECT_FALSE(patternColour(look, p, 1).isApprox(patternColour(look, p + Eigen::Vector3d(0, period / 2, 0), 1)));
-  EXPECT_TRUE(patternColour(look, p, 1).isApprox(patternColour(look, p + Eigen::Vector3d(0, period, 0), 1)));
+  EXPECT_FALSE(patternColour(look, p, 1)
+                   .isApprox(patternColour(look, p + Eigen::Vector3d(0, period / 2, 0), 1)));
+  EXPECT_TRUE(patternColour(look, p, 1)
+                  .isApprox(patternColour(look, p + Eigen::Vector3d(0, period, 0), 1)));
   // Constant across X and Z (bands go around the body).
-  EXPECT_TRUE(patternColour(look, p, 1).isApprox(patternColour(look, p + Eigen::Vector3d(0.37, 0, -0.21), 1)));
+  EXPECT_TRUE(patternColour(look, p, 1)
+                  .isApprox(patternColour(look, p + Eigen::Vector3d(0.37, 0, -0.21), 1)));
 }
 
 TEST(Pattern, ChecksFormFourQuadrants) {
   const double period = 0.1;  // cells 5 cm
   const Look look = twoColourLook(PatternKind::Checks, period);
   const double z = 0.01, d = 0.012;  // inside the cell [0, 0.05) in z; around the corner (0, 0)
-  const Eigen::Vector3d pp = patternColour(look, {d, d, z}, 1), mp = patternColour(look, {-d, d, z}, 1),
-                        mm = patternColour(look, {-d, -d, z}, 1), pm = patternColour(look, {d, -d, z}, 1);
+  const Eigen::Vector3d pp = patternColour(look, {d, d, z}, 1),
+                        mp = patternColour(look, {-d, d, z}, 1),
+                        mm = patternColour(look, {-d, -d, z}, 1),
+                        pm = patternColour(look, {d, -d, z}, 1);
   EXPECT_TRUE(pp.isApprox(look.base));  // cell (0, 0, 0): even
   EXPECT_TRUE(mm.isApprox(look.base));
   EXPECT_TRUE(mp.isApprox(look.second));
@@ -79,7 +84,8 @@ TEST(Pattern, NoiseIsDeterministicPerSeedAndSmooth) {
     const Eigen::Vector3d a = patternColour(look, p, 42);
     EXPECT_EQ(a, patternColour(look, p, 42));  // bit-identical
     diff += (a - patternColour(look, p, 43)).norm();
-    maxJump = std::max(maxJump, (a - patternColour(look, p + Eigen::Vector3d(1e-5, 0, 0), 42)).norm());
+    maxJump =
+        std::max(maxJump, (a - patternColour(look, p + Eigen::Vector3d(1e-5, 0, 0), 42)).norm());
   }
   EXPECT_GT(diff / 500, 0.02);  // another seed, another texture
   EXPECT_LT(maxJump, 0.01);     // continuous: 10 µm moves the colour very little
@@ -146,8 +152,10 @@ TEST(Appearance, GapFacesInsideColourOrBlotches) {
   const Eigen::Vector3d up(0, 1, 0);
   const Appearance inside(o, {.shading = 0, .gapColours = false, .seed = 3});
   // Without gap colours: the skirt's inside, darker than its base, even with no layer given.
-  EXPECT_TRUE(inside.colour(0, Label::Gap, {0.1, 0.5, 0}, up).isApprox(0.45 * o.garments[0].look.base));
-  EXPECT_TRUE(inside.colour(-1, Label::Gap, {0.1, 0.5, 0}, up).isApprox(0.45 * o.garments[0].look.base));
+  EXPECT_TRUE(
+      inside.colour(0, Label::Gap, {0.1, 0.5, 0}, up).isApprox(0.45 * o.garments[0].look.base));
+  EXPECT_TRUE(
+      inside.colour(-1, Label::Gap, {0.1, 0.5, 0}, up).isApprox(0.45 * o.garments[0].look.base));
   // With gap colours: varied (several distinct colours over a strip), deterministic.
   const Appearance blotchy(o, {.shading = 0, .gapColours = true, .seed = 3});
   double spread = 0;

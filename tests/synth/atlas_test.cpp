@@ -28,7 +28,8 @@ TEST(Atlas, CornerSamplesEqualTheVertexColours) {
   const TriMesh m = makeIcosphere(3, 1.0);  // 1280 faces
   const Eigen::MatrixX3d vc = vertexColours(m);
   const FaceColourFn fn = [&](int f, const Eigen::Vector3d& b) -> Eigen::Vector3d {
-    return (b[0] * vc.row(m.F(f, 0)) + b[1] * vc.row(m.F(f, 1)) + b[2] * vc.row(m.F(f, 2))).transpose();
+    return (b[0] * vc.row(m.F(f, 0)) + b[1] * vc.row(m.F(f, 1)) + b[2] * vc.row(m.F(f, 2)))
+        .transpose();
   };
   for (int cell : {0, 5, 9}) {  // automatic, the smallest cell for gutter 1, a larger one
     const Texture t = bakeAtlas(m.numFaces(), fn, {.cellPx = cell});
@@ -78,8 +79,10 @@ TEST(Atlas, TrianglesInsideTheirCellsAndCellsDisjoint) {
         sum[k] = (px - x0 - 0.5) + (y0 + s - py - 0.5);
       }
       for (double v : sum) {
-        if (f % 2 == 0) EXPECT_LE(v, s - 2 + 1e-9);
-        else EXPECT_GE(v, s - 1e-9);
+        if (f % 2 == 0)
+          EXPECT_LE(v, s - 2 + 1e-9);
+        else
+          EXPECT_GE(v, s - 1e-9);
       }
     }
   }
@@ -107,8 +110,10 @@ TEST(Atlas, BadOptionsThrow) {
   EXPECT_THROW(packAtlas(-1), InputError);
   EXPECT_THROW(packAtlas(2'000'000'000, {.cellPx = 64}), InputError);
   const AtlasLayout L = packAtlas(4);
-  EXPECT_THROW(rasterizeAtlas(L, 5, [](int, const Eigen::Vector3d&) { return Eigen::Vector3d::Zero().eval(); }),
-               InputError);
+  EXPECT_THROW(
+      rasterizeAtlas(L, 5,
+                     [](int, const Eigen::Vector3d&) { return Eigen::Vector3d::Zero().eval(); }),
+      InputError);
 }
 
 }  // namespace

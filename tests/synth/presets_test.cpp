@@ -32,7 +32,8 @@ TEST(Presets, AtLeastFourteenWithUniqueNamesAndValidOptions) {
     }
     EXPECT_NO_THROW(Appearance(o.outfit, {}));
     // Options survive their JSON form (truth.json "generator").
-    EXPECT_EQ(synthOptionsToJson(synthOptionsFromJson(synthOptionsToJson(o))), synthOptionsToJson(o));
+    EXPECT_EQ(synthOptionsToJson(synthOptionsFromJson(synthOptionsToJson(o))),
+              synthOptionsToJson(o));
   }
 }
 
@@ -61,7 +62,9 @@ TEST(Presets, CoverTheCataloguePosesAndHardCases) {
   EXPECT_TRUE(gap && noise && holes && shape && bareFeet);
   // Low contrast (case t): upper and lower within 10 ΔE*ab; close to skin: within 10 of it.
   const SynthOptions lc = presetOptions("low_contrast");
-  EXPECT_LT(deltaE76(srgbToLab(lc.outfit.garments[0].look.base), srgbToLab(lc.outfit.garments[1].look.base)), 10);
+  EXPECT_LT(deltaE76(srgbToLab(lc.outfit.garments[0].look.base),
+                     srgbToLab(lc.outfit.garments[1].look.base)),
+            10);
   const SynthOptions cs = presetOptions("close_to_skin");
   EXPECT_LT(deltaE76(srgbToLab(cs.outfit.garments[0].look.base), srgbToLab(cs.outfit.skin)), 10);
 }

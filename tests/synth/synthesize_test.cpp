@@ -57,18 +57,23 @@ TEST(SynthPose, PosesHaveTheirKnownShape) {
   EXPECT_NEAR(armDown(SynthPose::ArmsDown, C::LeftShoulder, C::LeftWrist), 72, 1);
   EXPECT_NEAR(armDown(SynthPose::ArmsDown, C::RightShoulder, C::RightWrist), 72, 1);
   // Arms down yet clear of the hips: wrists further out than the hip joints by ≥ 10 cm.
-  EXPECT_GT(at(SynthPose::ArmsDown, C::LeftWrist).x() - at(SynthPose::ArmsDown, C::LeftHip).x(), 0.10);
-  EXPECT_LT(at(SynthPose::ArmsDown, C::RightWrist).x() - at(SynthPose::ArmsDown, C::RightHip).x(), -0.10);
+  EXPECT_GT(at(SynthPose::ArmsDown, C::LeftWrist).x() - at(SynthPose::ArmsDown, C::LeftHip).x(),
+            0.10);
+  EXPECT_LT(at(SynthPose::ArmsDown, C::RightWrist).x() - at(SynthPose::ArmsDown, C::RightHip).x(),
+            -0.10);
   // Walking: left foot forwards, right foot back, right knee bent (ankle behind the knee).
   EXPECT_GT(at(SynthPose::Walking, C::LeftAnkle).z(), 0.1);
   EXPECT_LT(at(SynthPose::Walking, C::RightAnkle).z(), -0.1);
   EXPECT_LT(at(SynthPose::Walking, C::RightAnkle).z(), at(SynthPose::Walking, C::RightKnee).z());
   // Bent arm: the left forearm at 90° to the upper arm, pointing forwards; the right arm as in A.
-  const Eigen::Vector3d upper = at(SynthPose::BentArm, C::LeftElbow) - at(SynthPose::BentArm, C::LeftShoulder);
-  const Eigen::Vector3d fore = at(SynthPose::BentArm, C::LeftWrist) - at(SynthPose::BentArm, C::LeftElbow);
+  const Eigen::Vector3d upper =
+      at(SynthPose::BentArm, C::LeftElbow) - at(SynthPose::BentArm, C::LeftShoulder);
+  const Eigen::Vector3d fore =
+      at(SynthPose::BentArm, C::LeftWrist) - at(SynthPose::BentArm, C::LeftElbow);
   EXPECT_NEAR(upper.normalized().dot(fore.normalized()), 0, 0.02);
   EXPECT_GT(fore.normalized().z(), 0.99);
-  EXPECT_TRUE(at(SynthPose::BentArm, C::RightWrist).isApprox(at(SynthPose::APose, C::RightWrist), 1e-9));
+  EXPECT_TRUE(
+      at(SynthPose::BentArm, C::RightWrist).isApprox(at(SynthPose::APose, C::RightWrist), 1e-9));
 }
 
 // A hand-built clothed surface: a unit-ish sphere at chest height, upper half Upper, lower Lower.
@@ -111,10 +116,13 @@ TEST(Synthesize, YawRotatesScanCurvesAndBodyConsistently) {
   o.yawDegrees = 90;
   const SynthScan b = assembleSynthScan(m, params, surface, o);
   // +90° about +Y: (x, y, z) → (z, y, −x).
-  const auto rot = [](const Eigen::RowVector3d& p) { return Eigen::RowVector3d(p.z(), p.y(), -p.x()); };
+  const auto rot = [](const Eigen::RowVector3d& p) {
+    return Eigen::RowVector3d(p.z(), p.y(), -p.x());
+  };
   for (int v = 0; v < surface.mesh.numVertices(); ++v)
     EXPECT_TRUE(b.scan.mesh.V.row(v).isApprox(rot(a.scan.mesh.V.row(v)), 1e-12));
-  EXPECT_TRUE(b.truth.boundaries[0].curves[0].row(1).isApprox(rot(a.truth.boundaries[0].curves[0].row(1))));
+  EXPECT_TRUE(
+      b.truth.boundaries[0].curves[0].row(1).isApprox(rot(a.truth.boundaries[0].curves[0].row(1))));
   // Every posed joint of the truth body turned with the scan.
   for (const auto& [name, pj] : a.truth.body["joints"].items()) {
     const Eigen::RowVector3d p(pj[0].get<double>(), pj[1].get<double>(), pj[2].get<double>());
@@ -157,7 +165,8 @@ TEST(Synthesize, BadSurfaceOrOptionsThrow) {
 }
 
 TEST(Synthesize, PresetShapesAreMannequinParameters) {
-  for (const Preset& p : presets()) EXPECT_NO_THROW(parseShapeAssignments(mannequin(), p.options.shape)) << p.name;
+  for (const Preset& p : presets())
+    EXPECT_NO_THROW(parseShapeAssignments(mannequin(), p.options.shape)) << p.name;
   EXPECT_GT(parseShapeAssignments(mannequin(), presetOptions("plus_size").shape).norm(), 10);
 }
 
@@ -199,7 +208,8 @@ TEST(Synthesize, SameSeedSameBytesAndLabelsAgreeWithTruth) {
   for (int l = 0; l < kNumLabels; ++l) {
     if (static_cast<Label>(l) == Label::Skin || static_cast<Label>(l) == Label::Gap) continue;
     bool inTruth = false;
-    for (const auto& g : truth.garments) inTruth |= static_cast<int>(g.label) == l && g.visibleArea > 0;
+    for (const auto& g : truth.garments)
+      inTruth |= static_cast<int>(g.label) == l && g.visibleArea > 0;
     EXPECT_EQ((ply.faceLabels.array() == l).any(), inTruth) << toString(static_cast<Label>(l));
   }
   EXPECT_TRUE((ply.faceLabels.array() == static_cast<int>(Label::Upper)).any());
@@ -209,7 +219,8 @@ TEST(Synthesize, SameSeedSameBytesAndLabelsAgreeWithTruth) {
 TEST(Synthesize, ObjTextureReadsBackWithThePlyColours) {
   test::TempDir dir;
   const SynthScan s = synthesize(mannequin(), smallOptions(3));
-  const auto written = writeSynthScan(dir / "obj", s, SynthFormat::Obj, {.previews = true, .previewHeightPx = 200});
+  const auto written =
+      writeSynthScan(dir / "obj", s, SynthFormat::Obj, {.previews = true, .previewHeightPx = 200});
   for (const char* name : {"scan.obj", "scan.mtl", "scan.png", "labels.ply", "truth.json",
                            "preview_scan.png", "preview_labels.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / "obj" / name)) << name;
@@ -239,7 +250,8 @@ TEST(Synthesize, ObjTextureReadsBackWithThePlyColours) {
                                       std::lround(p.z() / h) + dz});
           if (it == cells.end()) continue;
           for (int w : it->second)
-            if ((ply.mesh.V.row(w) - p).norm() < bestD) bestD = (ply.mesh.V.row(w) - p).norm(), best = w;
+            if ((ply.mesh.V.row(w) - p).norm() < bestD)
+              bestD = (ply.mesh.V.row(w) - p).norm(), best = w;
         }
     ASSERT_GE(best, 0) << "OBJ vertex " << v << " is at no PLY vertex";
     sum += (obj.colour.row(v) - ply.colour.row(best)).cwiseAbs().mean();
