@@ -116,8 +116,8 @@ int runSuite(const SuiteArgs& a, Progress& progress) {
   const std::vector<SuiteEntry> entries = readSuite(a.suite);
   std::map<std::string, BodyModel> models;  // loaded once per source
   json report = json::array();
-  fmt::print("{:<24} {:>9} {:>9} {:>8}  {:<6} {:<8} {:>5}  {}\n", "name", "vertices", "faces",
-             "seconds", "closed", "manifold", "comp.", "labels");
+  fmt::print("{:<24} {:>9} {:>9} {:>8} {:>8}  {:<6} {:<8} {:>5}  {}\n", "name", "vertices", "faces",
+             "gen. s", "write s", "closed", "manifold", "comp.", "labels");
   int generated = 0;
   for (const SuiteEntry& e : entries) {
     if ((a.skipScaling && e.scaling) || (!a.only.empty() && e.name != a.only)) continue;
@@ -129,11 +129,15 @@ int runSuite(const SuiteArgs& a, Progress& progress) {
     const SynthScan s = synthesize(models.at(o.bodySource), o, progress);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto t1 = std::chrono::steady_clock::now();
     writeSynthScan(fs::path(a.outDir) / e.name, s, e.format,
                    {.previews = !a.noPreviews, .previewHeightPx = 800});
+    const double writeSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     const ScanSummary r = summarise(s);
-    fmt::print("{:<24} {:>9} {:>9} {:>8.2f}  {:<6} {:<8} {:>5}  {}\n", e.name, r.vertices, r.faces,
-               seconds, r.closed ? "yes" : "no", r.manifold ? "yes" : "no", r.components, r.labels);
+    fmt::print("{:<24} {:>9} {:>9} {:>8.2f} {:>8.2f}  {:<6} {:<8} {:>5}  {}\n", e.name, r.vertices,
+               r.faces, seconds, writeSeconds, r.closed ? "yes" : "no", r.manifold ? "yes" : "no",
+               r.components, r.labels);
     std::fflush(stdout);
     report.push_back({{"name", e.name},
                       {"preset", e.preset},
@@ -142,6 +146,7 @@ int runSuite(const SuiteArgs& a, Progress& progress) {
                       {"vertices", r.vertices},
                       {"faces", r.faces},
                       {"generate_seconds", seconds},
+                      {"write_seconds", writeSeconds},
                       {"closed", r.closed},
                       {"boundary_loops", r.boundaryLoops},
                       {"manifold", r.manifold},
