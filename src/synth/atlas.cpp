@@ -56,7 +56,7 @@ AtlasLayout packAtlas(int numFaces, const AtlasOptions& options) {
   if (L.cellPx == 0) {
     const double fit =
         std::sqrt(static_cast<double>(options.maxPixels) / static_cast<double>(cells));
-    L.cellPx = std::clamp(static_cast<int>(fit), minCell, 16);
+    L.cellPx = std::clamp(static_cast<int>(fit), minCell, 12);
   }
   const double pixels =
       static_cast<double>(L.columns) * L.cellPx * static_cast<double>(rows) * L.cellPx;

@@ -15,7 +15,7 @@ namespace s2p {
 
 struct AtlasOptions {
   int cellPx = 0;              // cell side in pixels (≥ 3 + 2·gutterPx); 0: the largest that
-                               // keeps the image within maxPixels, at most 16
+                               // keeps the image within maxPixels, at most 12
   int gutterPx = 1;            // pixels around each triangle in its cell, in [1, 4]
   long maxPixels = 8'000'000;  // budget of the automatic cell size
 };
