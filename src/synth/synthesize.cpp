@@ -290,6 +290,10 @@ SynthScan assembleSynthScan(const BodyModel& model, const BodyParams& params,
         "synth: the clothed surface's labels, layers and rest positions do not match its {} "
         "vertices and {} faces",
         nv, nf));
+  if (params.pose.axisAngle.rows() != model.numJoints() ||
+      (params.shape.size() != 0 && params.shape.size() != model.numShapes()))
+    throw InputError(fmt::format("synth: body parameters do not fit {} ({} joints, {} shapes)",
+                                 model.source, model.numJoints(), model.numShapes()));
   for (Eigen::Index f = 0; f < nf; ++f)
     if (!isValidLabel(surface.faceLabel(f)))
       throw InputError(fmt::format("synth: face {} has invalid label {}", f, surface.faceLabel(f)));

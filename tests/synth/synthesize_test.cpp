@@ -148,6 +148,7 @@ TEST(Synthesize, BadSurfaceOrOptionsThrow) {
   s.faceLabel(3) = 42;
   EXPECT_THROW(assembleSynthScan(m, {}, s, {}), InputError);
   s = sphereSurface();
+  EXPECT_THROW(assembleSynthScan(m, {}, s, {}), InputError);  // no pose
   s.vertexLayer.resize(2);
   EXPECT_THROW(assembleSynthScan(m, {}, s, {}), InputError);
   SynthOptions o = smallOptions(1);
