@@ -185,7 +185,7 @@ std::map<std::string, std::string> files(const std::filesystem::path& dir) {
   return out;
 }
 
-TEST(Synthesize, SameSeedSameBytesAndLabelsAgreeWithTruth) {
+TEST(Synthesize, SameSeedSameBytesAndLabelsAgreeWithTruth_Slow) {
   test::TempDir dir;
   const BodyModel& m = mannequin();
   writeSynthScan(dir / "a", synthesize(m, smallOptions(7)), SynthFormat::Ply, {.previews = false});
@@ -217,7 +217,7 @@ TEST(Synthesize, SameSeedSameBytesAndLabelsAgreeWithTruth) {
   EXPECT_EQ(truth.generator["seed"].get<std::uint64_t>(), 7u);
 }
 
-TEST(Synthesize, ObjTextureReadsBackWithThePlyColours) {
+TEST(Synthesize, ObjTextureReadsBackWithThePlyColours_Slow) {
   test::TempDir dir;
   const SynthScan s = synthesize(mannequin(), smallOptions(3));
   const auto written =
