@@ -31,6 +31,7 @@ void addScanCommands(CLI::App& app, Commands& out);  // info, convert, preview
 void addBodyCommand(CLI::App& app, Commands& out);   // body
 void addDemoCommand(CLI::App& app, Commands& out);   // demo
 void addEvalCommand(CLI::App& app, Commands& out);   // eval
+void addSynthCommands(CLI::App& app, Commands& out);  // synth, bench-suite
 
 // === Shared: read + clean + normalise, as every command that takes a SCAN does.
 

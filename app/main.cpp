@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   app::addBodyCommand(app, commands);
   app::addDemoCommand(app, commands);
   app::addEvalCommand(app, commands);
+  app::addSynthCommands(app, commands);
 
   try {
     app.parse(argc, argv);
