@@ -12,9 +12,28 @@
 namespace s2p {
 
 // Simplifies `mesh` to about targetVertices (meshopt_simplify: every kept vertex is an input
-// vertex). Returns the input index of every output vertex (#V_out). Throws InputError when
-// targetVertices < 100.
+// vertex). meshopt_simplify does not check the link condition; the few non-manifold edges it can
+// leave where two sheets come within an edge length are split apart (splitNonManifold), so the
+// result is manifold. Returns the input index of every output vertex (#V_out). Throws InputError
+// when targetVertices < 100.
 Eigen::VectorXi decimateMesh(TriMesh& mesh, int targetVertices);
+
+// Makes a mesh manifold without moving anything: around every vertex the faces connected through
+// manifold edges (exactly two faces) form a fan, and every fan but the first gets its own copy
+// of the vertex, so two sheets that a collapse made touch along an edge or at a vertex come
+// apart. Returns the input vertex of every output vertex (#V_out; new copies are appended).
+Eigen::VectorXi splitNonManifold(TriMesh& mesh);
+
+// Moves apart vertices closer than `minDistance` (metres): each moves by minDistance towards the
+// centroid of its own one-ring, so sheets that touch (copies made by splitNonManifold, or
+// near-duplicate level-set vertices) stay apart when a reader welds coincident vertices.
+// Returns how many vertices moved.
+int separateCoincidentVertices(TriMesh& mesh, double minDistance);
+
+// Lifts the middle corner of every nearly flat triangle (height under lift / 2 above its longest
+// edge) by `lift` metres towards its one-ring centroid, so no reader drops it as degenerate.
+// Returns how many corners moved.
+int liftFlatFaces(TriMesh& mesh, double lift);
 
 // Moves every vertex along its normal by N(0, σ²), seeded. σ in metres, in [0, 0.05].
 void addNormalNoise(TriMesh& mesh, double sigma, std::uint64_t seed);

@@ -60,5 +60,42 @@ TEST(Corruption, HolesGiveOneBoundaryLoopEach) {
   EXPECT_THROW(cutHoles(mesh, centres, 0.2), TopologyError);  // no longer closed
 }
 
+// Two closed tetrahedra (on vertices 0,1,2,3 and 0,1,4,5) glued along the edge 0-1, which
+// has four faces: splitting gives two closed manifold components with 0 and 1 duplicated.
+TEST(Corruption, SplitNonManifoldSeparatesSheetsTouchingAlongAnEdge) {
+  TriMesh m;
+  m.V.resize(6, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0.5, -1, -1, 0.5, -0.5, 0.2;
+  m.F.resize(8, 3);
+  m.F << 0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2,  // tetrahedron A
+      0, 1, 4, 1, 5, 4, 0, 4, 5, 0, 5, 1;     // tetrahedron B
+  ASSERT_FALSE(MeshTopology(m.F, m.numVertices()).manifoldness().isManifold());
+  const TriMesh before = m;
+  const Eigen::VectorXi origin = splitNonManifold(m);
+  const MeshTopology topo(m.F, m.numVertices());
+  EXPECT_TRUE(topo.manifoldness().isManifold());
+  EXPECT_TRUE(topo.isClosed());
+  EXPECT_EQ(topo.numComponents(), 2);
+  EXPECT_EQ(m.numVertices(), before.numVertices() + 2);  // vertices 0 and 1 duplicated
+  for (int v = 0; v < m.numVertices(); ++v) EXPECT_EQ(m.V.row(v), before.V.row(origin[v]));
+  for (int f = 0; f < m.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(origin[m.F(f, k)], before.F(f, k));
+  // The copies are moved apart, each into its own sheet, beyond any reader's weld tolerance.
+  EXPECT_EQ(separateCoincidentVertices(m, 1e-4), 4);
+  for (int v : {0, 1}) {
+    int copy = -1;
+    for (int w = before.numVertices(); w < m.numVertices(); ++w)
+      if (origin[w] == v) copy = w;
+    ASSERT_GE(copy, 0);
+    EXPECT_GT((m.V.row(v) - m.V.row(copy)).norm(), 1e-4);
+    EXPECT_LT((m.V.row(v) - before.V.row(v)).norm(), 1.01e-4);
+  }
+  // A manifold mesh is left as it was.
+  TriMesh sphere = makeIcosphere(2);
+  const TriMesh copy = sphere;
+  EXPECT_EQ(splitNonManifold(sphere).size(), copy.numVertices());
+  EXPECT_EQ(sphere.F, copy.F);
+}
+
 }  // namespace
 }  // namespace s2p
