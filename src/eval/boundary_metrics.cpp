@@ -54,7 +54,16 @@ std::vector<TrueBoundary> extractLabelBoundaries(const LabelledMesh& m, bool ski
     if (topo.edgeFaceCount(e) != 2) continue;
     const std::vector<int> f = topo.edgeFaces(e);
     int la = m.faceLabel(f[0]), lb = m.faceLabel(f[1]);
-    if (la == lb || (skipGap && (la == gap || lb == gap))) continue;
+    if (la == lb) continue;
+    if (skipGap && (la == gap || lb == gap)) {
+      // A garment meeting gap-filling triangles ends there: its rim under a hanging hem is the
+      // garment's boundary with the skin, as in truth.json (paper §5.2). Other gap edges belong
+      // to no boundary.
+      const int other = la == gap ? lb : la;
+      if (other != static_cast<int>(Label::Upper) && other != static_cast<int>(Label::Lower))
+        continue;
+      la = static_cast<int>(Label::Skin), lb = other;
+    }
     if (lb < la) std::swap(la, lb);
     pairEdges[{la, lb}].emplace_back(topo.edges()(e, 0), topo.edges()(e, 1));
   }

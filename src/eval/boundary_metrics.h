@@ -14,8 +14,9 @@ namespace s2p {
 // Curves between faces of different labels on a labelled mesh, as chains of the mesh edges
 // shared by a face of label a and a face of label b (a < b), one TrueBoundary per label pair
 // present, sorted by (a, b). A chain ends where the boundary branches (a vertex with more than
-// two such edges) or meets the mesh boundary; closed loops come out closed. Gap faces are
-// skipped when skipGap (their edges belong to no garment boundary).
+// two such edges) or meets the mesh boundary; closed loops come out closed. With skipGap, as in
+// truth.json, a garment's edge with gap-filling faces (the rim of a hanging hem) counts as its
+// boundary with the skin and every other gap edge is left out.
 std::vector<TrueBoundary> extractLabelBoundaries(const LabelledMesh& m, bool skipGap = true);
 
 // Points at uniform arc length along a polyline (closed: including the closing segment), the

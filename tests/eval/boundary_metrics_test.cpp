@@ -88,6 +88,14 @@ TEST(BoundaryMetrics, OpenChainOnAStripAndGapEdgesSkipped) {
     if (lm.faceLabel(f) == 1) lm.faceLabel(f) = static_cast<int>(Label::Gap);
   EXPECT_TRUE(extractLabelBoundaries(lm).empty());
   EXPECT_EQ(extractLabelBoundaries(lm, false).size(), 1u);
+  // Lower below gap-filling faces: the rim is the lower garment's boundary with the skin.
+  for (int f = 0; f < lm.mesh.numFaces(); ++f)
+    if (lm.faceLabel(f) == 0) lm.faceLabel(f) = static_cast<int>(Label::Lower);
+  const std::vector<TrueBoundary> rim = extractLabelBoundaries(lm);
+  ASSERT_EQ(rim.size(), 1u);
+  EXPECT_EQ(rim[0].a, Label::Skin);
+  EXPECT_EQ(rim[0].b, Label::Lower);
+  EXPECT_NEAR(rim[0].length(), 1.0, 1e-12);
 }
 
 TEST(BoundaryMetrics, JaggedLabelEdgeIsRoughTheExactCurveIsNot) {
