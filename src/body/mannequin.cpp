@@ -1,7 +1,8 @@
 #include "body/mannequin.h"
 
+#include "body/level_set_mesh.h"
+
 #include <openvdb/openvdb.h>
-#include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Dense>
@@ -197,30 +198,9 @@ TriMesh meshMannequinImplicit(const MannequinImplicit& body, double voxel) {
         else if (f < 0)
           acc.setValueOff(openvdb::Coord(i, j, k), -static_cast<float>(band));
       }
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> tris;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*grid, points, tris, quads, 0.0, 0.0);
-
-  TriMesh mesh;
-  mesh.V.resize(static_cast<int>(points.size()), 3);
-  for (size_t i = 0; i < points.size(); ++i)
-    mesh.V.row(static_cast<int>(i)) =
-        lo + voxel * Eigen::Vector3d(points[i].x(), points[i].y(), points[i].z());
-  mesh.F.resize(static_cast<int>(tris.size() + 2 * quads.size()), 3);
-  int f = 0;
-  for (const auto& t : tris) mesh.F.row(f++) << t[0], t[1], t[2];
-  for (const auto& q : quads) {  // split along the shorter diagonal
-    const double d02 = (mesh.V.row(q[0]) - mesh.V.row(q[2])).norm();
-    const double d13 = (mesh.V.row(q[1]) - mesh.V.row(q[3])).norm();
-    if (d02 <= d13) {
-      mesh.F.row(f++) << q[0], q[1], q[2];
-      mesh.F.row(f++) << q[0], q[2], q[3];
-    } else {
-      mesh.F.row(f++) << q[0], q[1], q[3];
-      mesh.F.row(f++) << q[1], q[2], q[3];
-    }
-  }
+  // Index-space points (the grid has the identity transform) mapped to the box.
+  TriMesh mesh = levelSetToMesh(*grid);
+  mesh.V = ((voxel * mesh.V).rowwise() + lo.transpose()).eval();
   keepLargestComponent(mesh);
   // Outward orientation: positive enclosed volume.
   double volume = 0;

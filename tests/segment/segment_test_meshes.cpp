@@ -1,5 +1,7 @@
 #include "segment_test_meshes.h"
 
+#include "body/level_set_mesh.h"
+
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
@@ -48,22 +50,8 @@ TriMesh makeTrousers(double voxel) {
         else if (f < 0)
           acc.setValueOff(openvdb::Coord(i, j, k), -band);
       }
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> tris;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*grid, points, tris, quads, 0.0, 0.0);
-  TriMesh m;
-  m.V.resize(static_cast<int>(points.size()), 3);
-  for (size_t i = 0; i < points.size(); ++i)
-    m.V.row(static_cast<int>(i)) =
-        lo + voxel * Eigen::Vector3d(points[i].x(), points[i].y(), points[i].z());
-  m.F.resize(static_cast<int>(tris.size() + 2 * quads.size()), 3);
-  int f = 0;
-  for (const auto& t : tris) m.F.row(f++) << t[0], t[1], t[2];
-  for (const auto& q : quads) {
-    m.F.row(f++) << q[0], q[1], q[2];
-    m.F.row(f++) << q[0], q[2], q[3];
-  }
+  TriMesh m = levelSetToMesh(*grid);  // index space (identity transform) mapped to the box
+  m.V = ((voxel * m.V).rowwise() + lo.transpose()).eval();
   double volume = 0;  // outward orientation: positive enclosed volume
   for (int i = 0; i < m.numFaces(); ++i)
     volume += m.V.row(m.F(i, 0)).dot(
