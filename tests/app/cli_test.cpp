@@ -1,6 +1,7 @@
 // The `scan2pattern` command end to end: every bad input gets its documented exit code and a
 // message, good input gives the known answer, and no half-written output is left behind.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -8,8 +9,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <sys/wait.h>
 
+#include "cli_support.h"
 #include "core/shapes.h"
 #include "io/read_scan.h"
 #include "io/write_mesh.h"
@@ -18,25 +19,11 @@
 namespace s2p {
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out;  // stdout and stderr together
-};
-
-// Runs the command line with the given arguments (quoted), capturing its output.
+using test::CliRun;
+using test::q;
 CliRun run(const std::string& args) {
-  const std::string cmd = std::string("'") + S2P_APP + "' " + args + " 2>&1";
-  CliRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.out.append(buf, n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return test::runCli(args);
 }
-
-std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
 
 // A closed person-sized box figure (1.7 m tall) in millimetres with +Z up: feet blocks, a
 // torso and a head, so units and the up axis are detectable.
@@ -88,7 +75,8 @@ TEST(Cli, ConvertWritesMetresYUpAndBackToTheInputFrame) {
   const BoundingBox box = boundingBox(s.mesh.V);
   EXPECT_NEAR(box.extent().y(), 1.7, 1e-4);  // GLB stores float32
   EXPECT_NEAR(box.min.y(), 0.0, 1e-4);
-  ASSERT_EQ(run("-q convert --input-frame " + q(dir / "person.ply") + " " + q(dir / "back.ply")).code, 0);
+  ASSERT_EQ(
+      run("-q convert --input-frame " + q(dir / "person.ply") + " " + q(dir / "back.ply")).code, 0);
   const Scan back = readScan(dir / "back.ply");
   EXPECT_NEAR(boundingBox(back.mesh.V).extent().z(), 1700.0, 1e-3);
 }
@@ -130,7 +118,8 @@ TEST(Cli, BadInputsGetTheirExitCodes) {
   EXPECT_NE(r.out.find("not a person"), std::string::npos) << r.out;
   // 2: bad option values.
   EXPECT_EQ(run("info --units furlongs " + q(dir / "person.ply")).code, 2);
-  EXPECT_EQ(run("preview " + q(dir / "person.ply") + " -o " + q(dir / "p.png") + " --views top").code, 2);
+  EXPECT_EQ(
+      run("preview " + q(dir / "person.ply") + " -o " + q(dir / "p.png") + " --views top").code, 2);
   // Body sources.
   EXPECT_EQ(run("body --model nonsense -o " + q(dir / "b")).code, 5);
   r = run("body --model mpfb2:" + q(dir / "no_such_folder") + " -o " + q(dir / "b"));
@@ -161,13 +150,15 @@ TEST(Cli, PreviewWritesAPngOfTheRequestedViews) {
   test::TempDir dir;
   writePly(dir / "person.ply", personInMillimetresZUp());
   const CliRun r = run("-q preview " + q(dir / "person.ply") + " -o " + q(dir / "p.png") +
-                    " --views front,left --height 200");
+                       " --views front,left --height 200");
   ASSERT_EQ(r.code, 0) << r.out;
   const std::string png = test::readFile(dir / "p.png");
   ASSERT_GT(png.size(), 24u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
   // IHDR height (big-endian at byte 20) is the requested one.
-  const auto byte = [&](int i) { return static_cast<unsigned>(static_cast<unsigned char>(png[i])); };
+  const auto byte = [&](int i) {
+    return static_cast<unsigned>(static_cast<unsigned char>(png[i]));
+  };
   EXPECT_EQ((byte(20) << 24) | (byte(21) << 16) | (byte(22) << 8) | byte(23), 200u);
 }
 

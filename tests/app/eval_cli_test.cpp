@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_support.h"
 #include "core/shapes.h"
 #include "io/write_mesh.h"
 #include "test_support.h"
@@ -18,24 +19,13 @@
 namespace s2p {
 namespace {
 
-struct EvalRun {
-  int code = -1;
-  std::string out;
-};
+using EvalRun = test::CliRun;
 
-// Runs the command with the arguments (each quoted), stdout and optionally stderr captured.
+// Runs the command with the arguments (each quoted), stderr captured unless left out.
 EvalRun runApp(const std::vector<std::string>& args, bool withStderr = true) {
-  std::string cmd = fmt::format("'{}'", S2P_APP);
-  for (const std::string& a : args) cmd += fmt::format(" '{}'", a);
-  cmd += withStderr ? " 2>&1" : " 2>/dev/null";
-  EvalRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.out.append(buf, n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  std::string line;
+  for (const std::string& a : args) line += test::q(a) + " ";
+  return test::runCli(line, withStderr);
 }
 
 constexpr int kRings = 50, kSegments = 32;

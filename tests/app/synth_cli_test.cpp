@@ -7,34 +7,17 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_support.h"
 #include "io/read_ply.h"
 #include "test_support.h"
 
 namespace s2p {
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out;  // stdout and stderr together
-};
-
+using test::CliRun;
+using test::q;
 CliRun run(const std::string& args) {
-  std::string cmd = "'";
-  cmd.append(S2P_APP).append("' ").append(args).append(" 2>&1");
-  CliRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.out.append(buf, n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string q(const std::filesystem::path& p) {
-  std::string s = "'";
-  s.append(p.string()).append("'");
-  return s;
+  return test::runCli(args);
 }
 
 int countLines(const std::string& s) {
