@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   app::addDemoCommand(app, commands);
   app::addEvalCommand(app, commands);
   app::addSynthCommands(app, commands);
+  app::addSegmentCommand(app, commands);
 
   try {
     app.parse(argc, argv);

@@ -1,6 +1,7 @@
 #include "segment/boundary_optimizer.h"
 
 #include <chrono>
+#include <optional>
 #include <cmath>
 #include <string>
 
@@ -27,7 +28,8 @@ struct BoundaryOptimizer::Impl {
   double totalArea = 0;
   Eigen::SparseMatrix<double> M;
   SpdSolver regulariser;  // M + βL
-  HeatDistance heat;
+  std::optional<HeatDistance> heat;
+  std::optional<FastMarchingDistance> marching;
   Biharmonic biharmonic;
   BoundaryTimings timings;
 
@@ -35,25 +37,105 @@ struct BoundaryOptimizer::Impl {
       : mesh(m),
         options(o),
         topology(m.F, m.numVertices()),
-        heat(m, o.heat),
-        biharmonic(m, o.biharmonic) {}
+        biharmonic(m, o.biharmonic) {
+    if (o.geodesic == GeodesicMethod::Heat)
+      heat.emplace(m, o.heat);
+    else
+      marching.emplace(m);
+  }
 
   // Signed distance from the zero isoline of φ_b (or of φ̄ on the fast path), signed by it;
   // components the curve misses get ±(largest finite distance) so the iteration stays finite.
-  Eigen::VectorXd signedFromBiharmonic(const Eigen::VectorXd& phiB) {
+  // With `constraints` (φ_b of those constraints): loops of the isoline that pass through no
+  // constrained face are dropped — the biharmonic extrapolates far from its constraints and may
+  // change sign there (around the feet, for B(U|S)); such a loop is not the spline — and each
+  // region the kept curves enclose takes the sign of its sign points, else of most of its area.
+  Eigen::VectorXd signedFromBiharmonic(const Eigen::VectorXd& phiB,
+                                       const std::vector<ValueConstraint>* constraints = nullptr) {
     auto t0 = std::chrono::steady_clock::now();
-    const Isoline iso = extractIsoline(mesh, topology, phiB);
+    Isoline iso = extractIsoline(mesh, topology, phiB);
     timings.isoline += secondsSince(t0);
+    Eigen::VectorXd sign = phiB;
+    if (constraints && dropStrayLoops(iso, *constraints)) sign = regionSigns(iso, phiB, *constraints);
     if (iso.curves.empty()) return {};
     t0 = std::chrono::steady_clock::now();
-    Eigen::VectorXd phi = heat.signedDistance(iso, phiB);
+    Eigen::VectorXd phi =
+        heat ? heat->signedDistance(iso, sign) : marching->signedDistance(iso, sign);
     double far = 0;
     for (int v = 0; v < phi.size(); ++v)
       if (std::isfinite(phi[v])) far = std::max(far, std::abs(phi[v]));
     for (int v = 0; v < phi.size(); ++v)
-      if (!std::isfinite(phi[v])) phi[v] = phiB[v] < 0 ? -far : far;
+      if (!std::isfinite(phi[v])) phi[v] = sign[v] < 0 ? -far : far;
     timings.geodesic += secondsSince(t0);
     return phi;
+  }
+
+  // Removes the curves that cross no face next to a zero constraint; true when any was removed.
+  bool dropStrayLoops(Isoline& iso, const std::vector<ValueConstraint>& constraints) {
+    std::vector<char> near(mesh.numFaces(), 0);
+    for (const ValueConstraint& c : constraints) {
+      if (c.value != 0) continue;
+      for (int k = 0; k < 3; ++k)
+        for (int f : topology.vertexFaces(mesh.F(c.point.face, k))) near[f] = 1;
+    }
+    const size_t before = iso.curves.size();
+    std::erase_if(iso.curves, [&](const IsolineCurve& c) {
+      for (int f : c.faces)
+        if (near[f]) return false;
+      return true;
+    });
+    return iso.curves.size() != before;
+  }
+
+  // ±1 per vertex: regions between the kept curves (flood fill over edges no curve crosses),
+  // signed by their sign points, or by the sign of φ_b over most of their area.
+  Eigen::VectorXd regionSigns(const Isoline& iso, const Eigen::VectorXd& phiB,
+                              const std::vector<ValueConstraint>& constraints) {
+    const int nV = mesh.numVertices();
+    std::vector<char> blocked(topology.edges().rows(), 0);
+    for (const IsolineCurve& c : iso.curves)
+      for (const IsolinePoint& p : c.points) blocked[p.edge] = 1;
+    std::vector<std::vector<std::pair<int, int>>> adj(nV);  // (neighbour, edge)
+    for (int e = 0; e < topology.edges().rows(); ++e) {
+      const int a = topology.edges()(e, 0), b = topology.edges()(e, 1);
+      adj[a].push_back({b, e});
+      adj[b].push_back({a, e});
+    }
+    std::vector<int> region(nV, -1);
+    int regions = 0;
+    for (int s = 0; s < nV; ++s) {
+      if (region[s] >= 0) continue;
+      std::vector<int> stack{s};
+      region[s] = regions;
+      while (!stack.empty()) {
+        const int v = stack.back();
+        stack.pop_back();
+        for (auto [w, e] : adj[v])
+          if (!blocked[e] && region[w] < 0) {
+            region[w] = regions;
+            stack.push_back(w);
+          }
+      }
+      ++regions;
+    }
+    Eigen::VectorXd vote = Eigen::VectorXd::Zero(regions), signVote = Eigen::VectorXd::Zero(regions);
+    for (int v = 0; v < nV; ++v) vote[region[v]] += area[v] * (phiB[v] < 0 ? -1.0 : 1.0);
+    for (const ValueConstraint& c : constraints) {
+      if (c.value == 0) continue;
+      int corner = 0;
+      c.point.bary.maxCoeff(&corner);
+      signVote[region[mesh.F(c.point.face, corner)]] += c.value;
+    }
+    Eigen::VectorXd sign(nV);
+    for (int v = 0; v < nV; ++v) {
+      const int r = region[v];
+      const double s = signVote[r] != 0 ? signVote[r] : vote[r];
+      sign[v] = s < 0 ? -1.0 : 1.0;
+    }
+    // Keep φ_b's own value where it agrees, so the kept curves stay exactly its zero set.
+    for (int v = 0; v < nV; ++v)
+      if ((phiB[v] < 0) == (sign[v] < 0)) sign[v] = phiB[v];
+    return sign;
   }
 
   Eigen::VectorXd solveBiharmonic(const std::vector<ValueConstraint>& zeros,
@@ -99,7 +181,9 @@ Eigen::VectorXd BoundaryOptimizer::initialImplicit(
         "boundary optimisation: the initial splines have no points (every anchor "
         "removed?)");
   Impl& d = *impl_;
-  const Eigen::VectorXd phi = d.signedFromBiharmonic(d.solveBiharmonic(zeros, signs));
+  std::vector<ValueConstraint> all = zeros;
+  all.insert(all.end(), signs.begin(), signs.end());
+  const Eigen::VectorXd phi = d.signedFromBiharmonic(d.solveBiharmonic(zeros, signs), &all);
   if (phi.size() == 0)
     throw InputError(
         "boundary optimisation: the initial implicit function has no zero "
@@ -114,29 +198,63 @@ Eigen::VectorXd BoundaryOptimizer::recomputeImplicit(const Eigen::VectorXd& fiel
   const Isoline iso = extractIsoline(d.mesh, d.topology, field);
   d.timings.isoline += secondsSince(t0);
   if (iso.curves.empty()) return {};
-  return d.signedFromBiharmonic(d.solveBiharmonic(zeroConstraints(iso), signs));
+  std::vector<ValueConstraint> all = zeroConstraints(iso);
+  const Eigen::VectorXd phiB = d.solveBiharmonic(all, signs);
+  all.insert(all.end(), signs.begin(), signs.end());
+  return d.signedFromBiharmonic(phiB, &all);
 }
 
 BoundaryResult BoundaryOptimizer::run(const std::vector<std::vector<SurfacePoint>>& splines,
                                       const std::vector<ValueConstraint>& signs,
                                       const Eigen::VectorXd& phiD) {
-  Impl& d = *impl_;
-  const int nV = d.mesh.numVertices();
+  checkInputs(signs, phiD);
+  const auto t0 = std::chrono::steady_clock::now();
+  const double setup = impl_->timings.setup;
+  impl_->timings = BoundaryTimings{.setup = setup};
+  const Eigen::VectorXd phi0 = initialImplicit(splines, signs);
+  BoundaryResult r = iterateFrom(phi0, signs, phiD);
+  impl_->timings.total = secondsSince(t0) + setup;
+  r.timings = impl_->timings;
+  return r;
+}
+
+BoundaryResult BoundaryOptimizer::iterate(const Eigen::VectorXd& phi0,
+                                          const std::vector<ValueConstraint>& signs,
+                                          const Eigen::VectorXd& phiD) {
+  checkInputs(signs, phiD);
+  if (phi0.size() != impl_->mesh.numVertices() || !phi0.allFinite())
+    throw InputError("boundary optimisation: the start field has " + std::to_string(phi0.size()) +
+                     " values for " + std::to_string(impl_->mesh.numVertices()) +
+                     " vertices or is not finite");
+  const auto t0 = std::chrono::steady_clock::now();
+  const double setup = impl_->timings.setup;
+  impl_->timings = BoundaryTimings{.setup = setup};
+  BoundaryResult r = iterateFrom(phi0, signs, phiD);
+  impl_->timings.total = secondsSince(t0);
+  r.timings = impl_->timings;
+  return r;
+}
+
+void BoundaryOptimizer::checkInputs(const std::vector<ValueConstraint>& signs,
+                                    const Eigen::VectorXd& phiD) const {
+  const int nV = impl_->mesh.numVertices();
   if (phiD.size() != nV || !phiD.allFinite())
     throw InputError("boundary optimisation: the displacement has " + std::to_string(phiD.size()) +
                      " values for " + std::to_string(nV) + " vertices or is not finite");
-  bool pos = false, neg = false;
-  for (const auto& s : signs) {
-    pos |= s.value > 0;
-    neg |= s.value < 0;
-  }
-  if (!pos || !neg)
-    throw InputError("boundary optimisation: sign points of both signs are needed (" +
-                     std::to_string(signs.size()) + " given)");
-  const auto t0 = std::chrono::steady_clock::now();
-  d.timings = BoundaryTimings{.setup = d.timings.setup};
+  bool nonzero = false;
+  for (const auto& s : signs) nonzero |= s.value != 0;
+  if (!nonzero)
+    throw InputError("boundary optimisation: at least one sign point with a non-zero value is "
+                     "needed (" + std::to_string(signs.size()) + " given)");
+}
+
+BoundaryResult BoundaryOptimizer::iterateFrom(const Eigen::VectorXd& phi0,
+                                              const std::vector<ValueConstraint>& signs,
+                                              const Eigen::VectorXd& phiD) {
+  Impl& d = *impl_;
   BoundaryResult r;
-  Eigen::VectorXd phi = initialImplicit(splines, signs);
+  r.phi0 = phi0;
+  Eigen::VectorXd phi = phi0;
   r.initial = extractIsoline(d.mesh, d.topology, phi);
   const Eigen::VectorXd step = d.options.alpha * phiD;
   for (int it = 0; it < d.options.maxIterations; ++it) {
@@ -162,8 +280,6 @@ BoundaryResult BoundaryOptimizer::run(const std::vector<std::vector<SurfacePoint
   }
   r.phi = phi;
   r.boundary = extractIsoline(d.mesh, d.topology, phi);
-  d.timings.total = secondsSince(t0) + d.timings.setup;
-  r.timings = d.timings;
   return r;
 }
 

@@ -26,6 +26,12 @@
 
 namespace s2p {
 
+// How the signed geodesic distance φ is computed from the isoline (§5.1.3).
+enum class GeodesicMethod {
+  FastMarching,  // the paper's choice [KS98]; accurate everywhere (the default)
+  Heat           // heat method: prefactored, but its far field is noise beyond ~50 edge lengths
+};
+
 struct BoundaryOptions {
   double alpha = 0.01;   // m of boundary motion per iteration, Eq. (3)
   double beta = 2.5e-5;  // m², length regularisation time, Eq. (4) (√β = 5 mm)
@@ -37,6 +43,7 @@ struct BoundaryOptions {
   // until the suite shows it reaches the same boundaries (DESIGN.md, "A faithful path and a
   // fast path").
   bool faithful = true;
+  GeodesicMethod geodesic = GeodesicMethod::FastMarching;
   HeatDistanceOptions heat;
   BiharmonicOptions biharmonic;
 };
@@ -47,12 +54,13 @@ struct BoundaryTimings {
   double regularisation = 0;  // Eq. (3) + Eq. (4) solve
   double isoline = 0;         // isoline extraction (both)
   double biharmonic = 0;      // numeric refactorisation + constrained solves
-  double geodesic = 0;        // heat-method solves
+  double geodesic = 0;        // signed distance (fast marching or heat-method solves)
   double total = 0;
 };
 
 struct BoundaryResult {
-  Eigen::VectorXd phi;  // #V, final signed distance (m), > 0 on the positive side
+  Eigen::VectorXd phi0;  // #V, φ₀: the initial signed distance (m)
+  Eigen::VectorXd phi;   // #V, final signed distance (m), > 0 on the positive side
   Isoline initial;      // zero isoline of φ₀
   Isoline boundary;     // zero isoline of the final φ: the optimised boundary
   int iterations = 0;
@@ -83,11 +91,20 @@ class BoundaryOptimizer {
   // Algorithm 1. splines: the initial curves as surface points (any number); signs: sign
   // points with their values (±1); phiD: #V displacement in [−1, 1], positive where the
   // positive side should grow. Throws InputError for empty splines and signs, wrong sizes,
-  // or no sign point of either sign.
+  // or no sign point with a non-zero value.
   BoundaryResult run(const std::vector<std::vector<SurfacePoint>>& splines,
                      const std::vector<ValueConstraint>& signs, const Eigen::VectorXd& phiD);
+  // Algorithm 1 from lines 3–8 with a given φ₀ (a signed distance, e.g. a previous run's φ):
+  // the second pass of §5.2 (Eq. 6). Throws as run, and for a φ₀ of the wrong size.
+  BoundaryResult iterate(const Eigen::VectorXd& phi0, const std::vector<ValueConstraint>& signs,
+                         const Eigen::VectorXd& phiD);
 
  private:
+  void checkInputs(const std::vector<ValueConstraint>& signs, const Eigen::VectorXd& phiD) const;
+  BoundaryResult iterateFrom(const Eigen::VectorXd& phi0,
+                             const std::vector<ValueConstraint>& signs,
+                             const Eigen::VectorXd& phiD);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -176,9 +176,9 @@ Eigen::MatrixX3d smoothVertexColours(const TriMesh& mesh, const Eigen::MatrixX3d
   return c;
 }
 
-ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
-                                      const std::vector<ColourRegion>& regions,
-                                      const ColourModelOptions& options) {
+RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
+                               const std::vector<std::vector<SurfacePoint>>& regions,
+                               const ColourModelOptions& options) {
   validateMesh(mesh, "colour model mesh");
   if (srgb.rows() != mesh.numVertices() || !srgb.allFinite())
     throw InputError("colour model: the scan needs one finite sRGB colour per vertex (" +
@@ -186,29 +186,45 @@ ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3
                      std::to_string(mesh.numVertices()) +
                      " vertices); a scan without colour "
                      "cannot be segmented by colour");
-  ColourDisplacement out;
+  RegionColours out;
   out.lab =
       srgbToLab(smoothVertexColours(mesh, srgb, options.smoothingLength, options.smoothingSteps));
-  std::vector<bool> positive;
+  const Eigen::MatrixXd lab = out.lab;
   for (size_t r = 0; r < regions.size(); ++r) {
-    const ColourRegion& region = regions[r];
-    if (region.points.empty())
+    const std::vector<SurfacePoint>& points = regions[r];
+    if (points.empty())
       throw InputError("colour model: region " + std::to_string(r) + " has no points left");
-    Eigen::MatrixX3d samples(static_cast<int>(region.points.size()), 3);
-    for (size_t i = 0; i < region.points.size(); ++i) {
-      const SurfacePoint& p = region.points[i];
+    Eigen::MatrixX3d samples(static_cast<int>(points.size()), 3);
+    for (size_t i = 0; i < points.size(); ++i) {
+      const SurfacePoint& p = points[i];
       if (p.face < 0 || p.face >= mesh.numFaces())
         throw InputError("colour model: point " + std::to_string(i) + " of region " +
                          std::to_string(r) + " is on face " + std::to_string(p.face) +
                          ", outside the mesh");
-      samples.row(static_cast<int>(i)) = p.interpolate(mesh.F, Eigen::MatrixXd(out.lab));
+      samples.row(static_cast<int>(i)) = p.interpolate(mesh.F, lab);
     }
     GmmOptions g = options.gmm;
     g.seed = options.gmm.seed + r;
     out.models.push_back(fitGaussianMixture(samples, g));
-    positive.push_back(region.positive);
+    out.means.push_back(samples.colwise().mean().transpose());
   }
-  out.phiD = posteriorDisplacement(out.models, positive, out.lab);
+  return out;
+}
+
+ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
+                                      const std::vector<ColourRegion>& regions,
+                                      const ColourModelOptions& options) {
+  std::vector<std::vector<SurfacePoint>> points;
+  std::vector<bool> positive;
+  for (const ColourRegion& r : regions) {
+    points.push_back(r.points);
+    positive.push_back(r.positive);
+  }
+  RegionColours fit = fitRegionColours(mesh, srgb, points, options);
+  ColourDisplacement out;
+  out.phiD = posteriorDisplacement(fit.models, positive, fit.lab);
+  out.lab = std::move(fit.lab);
+  out.models = std::move(fit.models);
   return out;
 }
 

@@ -76,6 +76,17 @@ struct ColourDisplacement {
   std::vector<GaussianMixture> models;  // one per region
 };
 
+// Smoothed CIELAB colours of a mesh and one mixture per region, fitted on the colours at the
+// region's points (the first half of the displacement, shared by every boundary of a scan).
+struct RegionColours {
+  Eigen::MatrixX3d lab;                 // #V×3
+  std::vector<GaussianMixture> models;  // one per region
+  std::vector<Eigen::Vector3d> means;   // mean CIELAB colour of each region's points
+};
+RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
+                               const std::vector<std::vector<SurfacePoint>>& regions,
+                               const ColourModelOptions& options = {});
+
 // srgb: #V×3 in [0, 1]. Throws InputError for a colour matrix of the wrong size or non-finite,
 // a region without points, a point off the mesh, or no region on one side.
 ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,

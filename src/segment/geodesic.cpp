@@ -1,7 +1,9 @@
 #include "segment/geodesic.h"
 
 #include <cmath>
+#include <algorithm>
 #include <limits>
+#include <queue>
 #include <string>
 
 #include "core/error.h"
@@ -127,6 +129,130 @@ Eigen::VectorXd signedDistanceFromZeroSet(const TriMesh& mesh, const Eigen::Vect
                                           const HeatDistanceOptions& options) {
   const HeatDistance heat(mesh, options);
   return heat.signedDistance(extractIsoline(mesh, field), field);
+}
+
+}  // namespace s2p
+
+// === Fast marching
+
+namespace s2p {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+// Distance at C from the accepted corners A (dA) and B (dB) of one triangle: the planar wave
+// whose virtual source S is at distances dA, dB from A and B on the far side of AB, when the
+// ray S → C enters the triangle through AB; else the better of the two edge updates.
+double triangleUpdate(const Vec3& A, const Vec3& B, const Vec3& C, double dA, double dB) {
+  const double edgeA = dA + (C - A).norm(), edgeB = dB + (C - B).norm();
+  const double edges = std::min(edgeA, edgeB);
+  const Vec3 ab = B - A;
+  const double c = ab.norm();
+  if (c <= 0) return edges;
+  const Vec3 ex = ab / c;
+  const Vec3 ac = C - A;
+  const double cx = ac.dot(ex);
+  const double cy = (ac - cx * ex).norm();
+  if (cy <= 0) return edges;
+  const double xs = (dA * dA - dB * dB + c * c) / (2 * c);
+  const double ys2 = dA * dA - xs * xs;
+  if (ys2 < 0) return edges;
+  const double ys = -std::sqrt(ys2);
+  const double t = -ys / (cy - ys);
+  const double x = xs + t * (cx - xs);
+  if (x < 0 || x > c) return edges;
+  return std::min(edges, std::hypot(cx - xs, cy - ys));
+}
+
+double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+}  // namespace
+
+struct FastMarchingDistance::Impl {
+  TriMesh mesh;
+  std::vector<std::vector<int>> vertexFaces;  // faces around each vertex
+};
+
+FastMarchingDistance::FastMarchingDistance(const TriMesh& mesh)
+    : impl_(std::make_unique<Impl>()) {
+  validateMesh(mesh, "fast marching mesh");
+  impl_->mesh = mesh;
+  impl_->vertexFaces.resize(mesh.numVertices());
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) impl_->vertexFaces[mesh.F(f, k)].push_back(f);
+}
+
+FastMarchingDistance::~FastMarchingDistance() = default;
+FastMarchingDistance::FastMarchingDistance(FastMarchingDistance&&) noexcept = default;
+FastMarchingDistance& FastMarchingDistance::operator=(FastMarchingDistance&&) noexcept = default;
+
+Eigen::VectorXd FastMarchingDistance::distance(const Isoline& curve) const {
+  const TriMesh& m = impl_->mesh;
+  const int nV = m.numVertices();
+  if (curve.length() <= 0)
+    throw InputError("fast marching: the source curve has zero length (no isoline?)");
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(nV, kInf);
+  std::vector<char> accepted(nV, 0);
+  // Exact in-face distances around the curve.
+  for (const IsolineCurve& c : curve.curves) {
+    const size_t n = c.points.size();
+    for (size_t i = 0; i < c.faces.size(); ++i) {
+      const int f = c.faces[i];
+      if (f < 0 || f >= m.numFaces())
+        throw InputError("fast marching: the curve crosses face " + std::to_string(f) +
+                         ", not a face of this mesh");
+      const Vec3& a = c.points[i].position;
+      const Vec3& b = c.points[(i + 1) % n].position;
+      for (int k = 0; k < 3; ++k) {
+        const int v = m.F(f, k);
+        d[v] = std::min(d[v], pointSegmentDistance(m.V.row(v).transpose(), a, b));
+      }
+    }
+  }
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
+  for (int v = 0; v < nV; ++v)
+    if (std::isfinite(d[v])) heap.push({d[v], v});
+  while (!heap.empty()) {
+    const auto [dv, v] = heap.top();
+    heap.pop();
+    if (accepted[v] || dv > d[v]) continue;
+    accepted[v] = 1;
+    for (int f : impl_->vertexFaces[v]) {
+      for (int k = 0; k < 3; ++k) {
+        const int w = m.F(f, k);
+        if (accepted[w]) continue;
+        // The third corner of f besides v and w.
+        const int u = m.F(f, 0) + m.F(f, 1) + m.F(f, 2) - v - w;
+        const Vec3 W = m.V.row(w).transpose(), V = m.V.row(v).transpose();
+        double cand = d[v] + (W - V).norm();
+        if (accepted[u])
+          cand = std::min(cand, triangleUpdate(V, m.V.row(u).transpose(), W, d[v], d[u]));
+        if (cand < d[w]) {
+          d[w] = cand;
+          heap.push({cand, w});
+        }
+      }
+    }
+  }
+  return d;
+}
+
+Eigen::VectorXd FastMarchingDistance::signedDistance(const Isoline& curve,
+                                                     const Eigen::VectorXd& sign) const {
+  if (sign.size() != impl_->mesh.numVertices())
+    throw InputError("fast marching: the sign field has " + std::to_string(sign.size()) +
+                     " values for " + std::to_string(impl_->mesh.numVertices()) + " vertices");
+  Eigen::VectorXd d = distance(curve);
+  for (int v = 0; v < d.size(); ++v)
+    if (sign[v] < 0) d[v] = -d[v];
+  return d;
 }
 
 }  // namespace s2p

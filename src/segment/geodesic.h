@@ -49,3 +49,31 @@ Eigen::VectorXd signedDistanceFromZeroSet(const TriMesh& mesh, const Eigen::Vect
                                           const HeatDistanceOptions& options = {});
 
 }  // namespace s2p
+
+namespace s2p {
+
+// Geodesic distance from a curve by fast marching on the triangle mesh (Kimmel and Sethian
+// 1998, the paper's [KS98]). The vertices of every face the curve crosses start with their exact
+// in-face distance to the curve's segment; the front then advances in order of distance, each
+// vertex taking the smallest of its triangle updates (the planar wave through two accepted
+// corners, when it enters the triangle through their edge) and edge updates. Unlike the heat
+// method it has no far-field underflow: on a 1.7 m body the heat kernel with t = h² vanishes
+// beyond ~50 edge lengths, where the heat method's distance becomes noise.
+class FastMarchingDistance {
+ public:
+  // Throws InputError for an invalid mesh.
+  explicit FastMarchingDistance(const TriMesh& mesh);
+  ~FastMarchingDistance();
+  FastMarchingDistance(FastMarchingDistance&&) noexcept;
+  FastMarchingDistance& operator=(FastMarchingDistance&&) noexcept;
+
+  // As HeatDistance::distance / signedDistance (+∞ on components the curve misses).
+  Eigen::VectorXd distance(const Isoline& curve) const;
+  Eigen::VectorXd signedDistance(const Isoline& curve, const Eigen::VectorXd& sign) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace s2p

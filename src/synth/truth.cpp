@@ -11,9 +11,6 @@
 namespace s2p {
 namespace {
 
-constexpr std::array<const char*, kNumLabels> kLabelNames = {"skin",  "upper", "lower", "shoes",
-                                                             "hair",  "other", "gap"};
-
 nlohmann::json curveToJson(const Eigen::MatrixX3d& c) {
   nlohmann::json pts = nlohmann::json::array();
   for (Eigen::Index i = 0; i < c.rows(); ++i) pts.push_back({c(i, 0), c(i, 1), c(i, 2)});
@@ -58,19 +55,6 @@ struct Reader {
 };
 
 }  // namespace
-
-const char* toString(Label label) {
-  const int i = static_cast<int>(label);
-  return isValidLabel(i) ? kLabelNames[i] : "invalid";
-}
-
-std::optional<Label> parseLabel(std::string_view name) {
-  for (int i = 0; i < kNumLabels; ++i)
-    if (name == kLabelNames[i]) return static_cast<Label>(i);
-  return std::nullopt;
-}
-
-bool isValidLabel(int code) { return code >= 0 && code < kNumLabels; }
 
 double TrueBoundary::length() const {
   double len = 0;
@@ -153,7 +137,7 @@ nlohmann::json truthToJson(const Truth& t) {
   j["labelled_mesh"] = t.labelledMesh;
   j["frame"] = t.frame;
   nlohmann::json labels = nlohmann::json::object();
-  for (int i = 0; i < kNumLabels; ++i) labels[kLabelNames[i]] = i;
+  for (int i = 0; i < kNumLabels; ++i) labels[toString(static_cast<Label>(i))] = i;
   j["label_codes"] = labels;
   nlohmann::json garments = nlohmann::json::array();
   for (const TrueGarment& g : t.garments)

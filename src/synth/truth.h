@@ -13,16 +13,9 @@
 #include <string_view>
 #include <vector>
 
-namespace s2p {
+#include "core/labels.h"
 
-// Per-vertex and per-face label codes of synthetic scans and of segmentation outputs (the PLY
-// "label" property). Gap marks gap-filling triangles under a free-hanging hem (paper §5.2):
-// they belong to no garment, and the metrics leave them out of the IoU.
-enum class Label : int { Skin = 0, Upper = 1, Lower = 2, Shoes = 3, Hair = 4, Other = 5, Gap = 6 };
-constexpr int kNumLabels = 7;
-const char* toString(Label label);                          // "skin", "upper", ...
-std::optional<Label> parseLabel(std::string_view name);     // inverse of toString
-bool isValidLabel(int code);
+namespace s2p {
 
 struct TrueGarment {
   std::string name;   // unique in the outfit: "t-shirt", "trousers", "jacket", "shoes", "bag", ...

@@ -1,0 +1,198 @@
+#include "app/segment_output.h"
+
+#include <fmt/format.h>
+
+#include <map>
+
+#include "app/commands.h"
+#include "core/error.h"
+#include "export/png.h"
+#include "export/preview.h"
+#include "io/write_mesh.h"
+#include "synth/synthesize.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace s2p::app {
+namespace {
+
+Eigen::MatrixX3d toFrame(const Eigen::Affine3d& t, const Eigen::MatrixX3d& P) {
+  return ((t.linear() * P.transpose()).colwise() + t.translation()).transpose();
+}
+
+json curvesJson(const std::vector<Eigen::MatrixX3d>& curves, const std::vector<bool>& closed,
+                const Eigen::Affine3d& toInput) {
+  json out = json::array();
+  for (size_t c = 0; c < curves.size(); ++c) {
+    const Eigen::MatrixX3d P = toFrame(toInput, curves[c]);
+    json pts = json::array();
+    for (int i = 0; i < P.rows(); ++i) pts.push_back({P(i, 0), P(i, 1), P(i, 2)});
+    out.push_back({{"closed", static_cast<bool>(closed[c])}, {"points", pts}});
+  }
+  return out;
+}
+
+double polylineLength(const Eigen::MatrixX3d& P, bool closed) {
+  double len = 0;
+  for (int i = 0; i + 1 < P.rows(); ++i) len += (P.row(i + 1) - P.row(i)).norm();
+  if (closed && P.rows() > 1) len += (P.row(0) - P.row(P.rows() - 1)).norm();
+  return len;
+}
+
+}  // namespace
+
+json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput) {
+  const Segmentation& s = out.segmentation;
+  // One entry per label pair (eval's format), holding the curves of every run with that pair.
+  std::map<std::pair<int, int>, json> pairs;
+  json runs = json::array();
+  for (const BoundaryReport& b : s.boundaries) {
+    for (size_t c = 0; c < b.finalCurves.size(); ++c) {
+      int a = static_cast<int>(b.garment), o = static_cast<int>(b.otherLabels[c]);
+      if (a > o) std::swap(a, o);
+      json& e = pairs[{a, o}];
+      if (e.is_null())
+        e = {{"labels", {toString(static_cast<Label>(a)), toString(static_cast<Label>(o))}},
+             {"curves", json::array()},
+             {"length_m", 0.0},
+             {"from", b.name}};
+      e["curves"].push_back(curvesJson({b.finalCurves[c]}, {b.finalClosed[c]}, toInput)[0]);
+      e["length_m"] = e["length_m"].get<double>() + polylineLength(b.finalCurves[c], b.finalClosed[c]);
+    }
+    runs.push_back({{"name", b.name},
+                    {"garment", toString(b.garment)},
+                    {"iterations", b.iterations},
+                    {"converged", b.converged},
+                    {"vanished", b.vanished},
+                    {"seconds", b.seconds},
+                    {"anchors", b.anchors},
+                    {"dropped_anchors", b.droppedAnchors},
+                    {"sign_points", b.signs},
+                    {"dropped_sign_points", b.droppedSigns},
+                    {"gap_pass", b.gapPass},
+                    {"gap_applied", b.gapApplied},
+                    {"gap_shift_m", b.gapShift},
+                    {"timings", {{"setup", b.timings.setup},
+                                 {"regularisation", b.timings.regularisation},
+                                 {"isoline", b.timings.isoline},
+                                 {"biharmonic", b.timings.biharmonic},
+                                 {"geodesic", b.timings.geodesic}}},
+                    {"initial_curves", curvesJson(b.initialCurves, b.initialClosed, toInput)},
+                    {"final_curves", curvesJson(b.finalCurves, b.finalClosed, toInput)}});
+  }
+  json boundaries = json::array();
+  for (auto& [k, e] : pairs) boundaries.push_back(e);
+  json garments = json::array();
+  for (const GarmentPiece& g : s.garments)
+    garments.push_back({{"name", g.name},
+                        {"label", toString(g.label)},
+                        {"file", g.name + ".obj"},
+                        {"vertices", g.mesh.numVertices()},
+                        {"faces", g.mesh.numFaces()},
+                        {"area_m2", surfaceArea(g.mesh)},
+                        {"occluded", g.occluded},
+                        {"completed_area_m2", g.completedArea}});
+  json notes = json::array();
+  for (const auto& n : s.notes) notes.push_back(n);
+  return {{"segmenter", out.segmenter},
+          {"layout", toString(s.layout)},
+          {"occlusion", toString(s.occlusion)},
+          {"shoes", s.shoes},
+          {"delta_e", {{"upper_lower", s.upperLowerDeltaE},
+                       {"upper_skin", s.upperSkinDeltaE},
+                       {"lower_skin", s.lowerSkinDeltaE},
+                       {"foot_skin", s.footSkinDeltaE}}},
+          {"region_points", s.regionPoints},
+          {"dropped_region_points", s.droppedRegionPoints},
+          {"seconds", s.seconds},
+          {"boundaries", boundaries},
+          {"runs", runs},
+          {"garments", garments},
+          {"notes", notes},
+          {"frame", "the scan file's frame and units"}};
+}
+
+void writeSegmentation(const fs::path& dir, const Scan& scan, const TriMesh& body,
+                       const SegmentOutput& out) {
+  const Segmentation& s = out.segmentation;
+  fs::create_directories(dir);
+  TriMesh scanOut = scan.mesh;
+  scanOut.V = toFrame(scan.toInputFrame, scan.mesh.V);
+  MeshAttributes attrs = colourAttributes(scan);
+  attrs.vertexLabels = &s.vertexLabel;
+  attrs.faceLabels = &s.faceLabel;
+  writePly(dir / "segmentation.ply", scanOut, attrs);
+
+  json garmentMaps = json::array();
+  for (const GarmentPiece& g : s.garments) {
+    TriMesh m = g.mesh;
+    m.V = toFrame(scan.toInputFrame, g.mesh.V);
+    MeshAttributes ga;
+    if (g.colour.rows() == m.numVertices()) ga.colour = &g.colour;
+    writeObj(dir / (g.name + ".obj"), m, ga);
+    garmentMaps.push_back({{"name", g.name},
+                           {"file", g.name + ".obj"},
+                           {"face_origin", std::vector<int>(g.faceOrigin.data(),
+                                                            g.faceOrigin.data() + g.faceOrigin.size())}});
+  }
+  writeJson(dir / "garments.json",
+            {{"scan", scan.sourcePath},
+             {"note", "face_origin[i]: the scan face (segmentation.ply) face i lies in"},
+             {"garments", garmentMaps}});
+  writeJson(dir / "boundaries.json", segmentationToJson(out, scan.toInputFrame));
+
+  // Previews (normalised frame): the scan with initial (blue) and final (red) boundaries, and
+  // the labels.
+  RenderOptions ro;
+  ro.views = {View::Front, View::Back};
+  ro.captions = {"front", "back"};
+  ro.heightPx = 900;
+  Scene scene;
+  SceneMesh sm;
+  sm.mesh = &scan.mesh;
+  if (scan.colourSource != ColourSource::None) sm.colour = &scan.colour;
+  scene.meshes.push_back(sm);
+  for (const BoundaryReport& b : s.boundaries) {
+    for (size_t c = 0; c < b.initialCurves.size(); ++c)
+      scene.lines.push_back({b.initialCurves[c], Rgb{40, 90, 230}, 2, b.initialClosed[c], false});
+    for (size_t c = 0; c < b.finalCurves.size(); ++c)
+      scene.lines.push_back({b.finalCurves[c], Rgb{230, 30, 30}, 3, b.finalClosed[c], false});
+  }
+  writePng(dir / "segment_boundaries.png", renderScene(scene, ro));
+  const Eigen::MatrixX3d byLabel = labelColours(s.vertexLabel);
+  Scene labels;
+  labels.meshes.push_back({&scan.mesh, &byLabel});
+  for (const GarmentPiece& g : s.garments)
+    if (g.occluded) labels.meshes.push_back({&g.mesh, nullptr, Rgb{120, 120, 120}, 0.35f});
+  (void)body;
+  writePng(dir / "segment_labels.png", renderScene(labels, ro));
+}
+
+void printSegmentation(const Segmentation& s) {
+  fmt::print("layout {}, occlusion {}, shoes {}; {:.1f} s\n", toString(s.layout),
+             toString(s.occlusion), s.shoes ? "yes" : "no", s.seconds);
+  for (const BoundaryReport& b : s.boundaries)
+    fmt::print("  {:4} {:3} iterations{}, {} curve(s), {:.2f} s{}\n", b.name, b.iterations,
+               b.converged ? "" : " (not converged)", b.finalCurves.size(), b.seconds,
+               b.gapApplied ? fmt::format(", gap pass moved it {:.0f} mm", 1000 * b.gapShift) : "");
+  for (const GarmentPiece& g : s.garments)
+    fmt::print("  {:8} {} faces, {:.3f} m²{}\n", g.name, g.mesh.numFaces(), surfaceArea(g.mesh),
+               g.occluded ? fmt::format(" ({:.3f} m² completed under the other garment)",
+                                        g.completedArea)
+                          : "");
+  for (const auto& n : s.notes) fmt::print("  note: {}\n", n);
+}
+
+std::string garmentFileList(const Segmentation& s) {
+  std::string out;
+  for (const GarmentPiece& g : s.garments) out += g.name + ".obj, ";
+  return out;
+}
+
+SegmentOutput segmentWithMrf(const Scan&, const TriMesh&, const FeatureSet&,
+                             const SegmentationOptions&, Progress&) {
+  throw InputError("--segmenter mrf is not built yet");
+}
+
+}  // namespace s2p::app

@@ -1,0 +1,34 @@
+// What `segment` (and the pipeline's segmentation step) writes: segmentation.ply, the garment
+// meshes with their scan-face maps, boundaries.json and the previews.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "io/scan.h"
+#include "segment/segmentation.h"
+
+namespace s2p::app {
+
+struct SegmentOutput {
+  Segmentation segmentation;
+  std::string segmenter;  // "curve" or "mrf"
+};
+
+// The paper's Fig. 14 baseline: per-vertex graph-cut labelling with the same colour model.
+SegmentOutput segmentWithMrf(const Scan& scan, const TriMesh& body, const FeatureSet& features,
+                             const SegmentationOptions& options, Progress& progress);
+
+// boundaries.json: {"boundaries": [truth.json's format, one entry per label pair, plus
+// "name", "iterations", "converged", "seconds", "initial_curves", ...], "layout", ...}. All
+// coordinates in the scan file's frame.
+nlohmann::json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput);
+
+// Writes everything into `dir` (created). Coordinates go back to the scan file's frame.
+void writeSegmentation(const std::filesystem::path& dir, const Scan& scan, const TriMesh& body,
+                       const SegmentOutput& out);
+void printSegmentation(const Segmentation& s);
+std::string garmentFileList(const Segmentation& s);  // "upper.obj, lower.obj, "
+
+}  // namespace s2p::app

@@ -1,0 +1,731 @@
+#include "segment/segmentation.h"
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <map>
+#include <optional>
+
+#include "core/colour.h"
+#include "core/error.h"
+#include "core/mesh_query.h"
+#include "core/mesh_topology.h"
+#include "segment/garment_completion.h"
+#include "segment/mesh_cut.h"
+#include "segment/surface_spline.h"
+
+namespace s2p {
+
+const char* toString(GarmentLayout layout) {
+  switch (layout) {
+    case GarmentLayout::UpperLower: return "upper_lower";
+    case GarmentLayout::OnePiece: return "one_piece";
+    case GarmentLayout::UpperOnly: return "upper_only";
+    case GarmentLayout::LowerOnly: return "lower_only";
+  }
+  return "invalid";
+}
+
+const char* toString(Occlusion occlusion) {
+  switch (occlusion) {
+    case Occlusion::None: return "none";
+    case Occlusion::LowerOccluded: return "lower_occluded";
+    case Occlusion::UpperOccluded: return "upper_occluded";
+  }
+  return "invalid";
+}
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// A mesh the next boundary is optimised on: what the previous cuts left of the scan.
+struct Stage {
+  TriMesh mesh;
+  Eigen::MatrixX3d lab;        // #V×3 smoothed CIELAB
+  Eigen::MatrixX3d srgb;       // #V×3
+  Eigen::VectorXi faceOrigin;  // #F → scan face
+  Eigen::VectorXi scanVertex;  // #V → scan vertex, −1 for a vertex made by a cut
+};
+
+Stage childStage(const Stage& parent, const CutPart& part) {
+  Stage s;
+  s.mesh = part.mesh;
+  const int n = part.mesh.numVertices();
+  s.lab.resize(n, 3);
+  s.srgb.resize(n, 3);
+  s.scanVertex.resize(n);
+  for (int v = 0; v < n; ++v) {
+    const VertexOrigin& o = part.vertexOrigin[v];
+    s.lab.row(v) = (1 - o.t) * parent.lab.row(o.a) + o.t * parent.lab.row(o.b);
+    s.srgb.row(v) = (1 - o.t) * parent.srgb.row(o.a) + o.t * parent.srgb.row(o.b);
+    s.scanVertex[v] = o.isOriginal() ? parent.scanVertex[o.a] : -1;
+  }
+  s.faceOrigin.resize(part.faceOrigin.size());
+  for (int f = 0; f < part.faceOrigin.size(); ++f)
+    s.faceOrigin[f] = parent.faceOrigin[part.faceOrigin[f]];
+  return s;
+}
+
+// Area of every scan face per label, accumulated from the pieces the cuts produce.
+class LabelAreas {
+ public:
+  LabelAreas(int numVertices, int numFaces)
+      : area_(Eigen::MatrixXd::Zero(numFaces, kNumLabels)),
+        vertexLabel_(Eigen::VectorXi::Constant(numVertices, -1)) {}
+
+  // Every face of `stage` to `label`, or per face when `faceLabel` is given.
+  void add(const Stage& stage, Label label, const Eigen::VectorXi* faceLabel = nullptr,
+           const Eigen::VectorXi* vertexLabel = nullptr) {
+    const Eigen::VectorXd a = faceAreas(stage.mesh);
+    for (int f = 0; f < stage.mesh.numFaces(); ++f)
+      area_(stage.faceOrigin[f], faceLabel ? (*faceLabel)[f] : static_cast<int>(label)) += a[f];
+    for (int v = 0; v < stage.mesh.numVertices(); ++v)
+      if (stage.scanVertex[v] >= 0)
+        vertexLabel_[stage.scanVertex[v]] =
+            vertexLabel ? (*vertexLabel)[v] : static_cast<int>(label);
+  }
+
+  Eigen::VectorXi faceLabels() const {
+    Eigen::VectorXi out(area_.rows());
+    for (int f = 0; f < area_.rows(); ++f) area_.row(f).maxCoeff(&out[f]);
+    return out;
+  }
+  // Vertices no piece kept (none, as every scan vertex lies in exactly one piece) take the label
+  // of an incident face.
+  Eigen::VectorXi vertexLabels(const TriMesh& scan, const Eigen::VectorXi& faceLabel) const {
+    Eigen::VectorXi out = vertexLabel_;
+    for (int f = 0; f < scan.numFaces(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (out[scan.F(f, k)] < 0) out[scan.F(f, k)] = faceLabel[f];
+    return out.cwiseMax(0);
+  }
+
+ private:
+  Eigen::MatrixXd area_;        // #F × kNumLabels
+  Eigen::VectorXi vertexLabel_;  // #V, −1 until set
+};
+
+// A feature projected to the scan: its position, which stays valid on every later stage.
+struct Anchor {
+  Vec3 position;
+  double value = 0;
+};
+
+struct ProjectedCurve {
+  std::string name;
+  std::vector<Eigen::MatrixX3d> splines;  // surviving anchors of each spline
+  std::vector<bool> closed;
+  std::vector<Anchor> signs;
+  int anchors = 0, droppedAnchors = 0, numSigns = 0, droppedSigns = 0;
+};
+
+ProjectedCurve projectCurve(const FeatureProjector& projector, const CurveFeatures& curve) {
+  ProjectedCurve out;
+  out.name = curve.name;
+  for (const FeatureSpline& s : curve.splines) {
+    const std::vector<ProjectedPoint> p = projector.project(s.anchors);
+    std::vector<Vec3> kept;
+    for (const ProjectedPoint& q : p)
+      if (q.ok()) kept.push_back(q.p);
+    out.anchors += static_cast<int>(p.size());
+    out.droppedAnchors += static_cast<int>(p.size() - kept.size());
+    const size_t need = s.closed ? 3 : 2;
+    if (kept.size() < need)
+      throw InputError(fmt::format(
+          "segmentation: spline '{}' of boundary {} kept {} of its {} anchors after the "
+          "ill-projection tests (Appendix B), {} needed; the body does not match the scan "
+          "there (check the body fit or the feature set)",
+          s.name, curve.name, kept.size(), p.size(), need));
+    Eigen::MatrixX3d A(static_cast<int>(kept.size()), 3);
+    for (size_t i = 0; i < kept.size(); ++i) A.row(static_cast<int>(i)) = kept[i].transpose();
+    out.splines.push_back(A);
+    out.closed.push_back(s.closed);
+  }
+  for (const SignPoint& s : curve.signs) {
+    const ProjectedPoint q = projector.project(s.point);
+    ++out.numSigns;
+    if (q.ok())
+      out.signs.push_back({q.p, s.value});
+    else
+      ++out.droppedSigns;
+  }
+  return out;
+}
+
+// Points given by position on the scan, located on a stage mesh (the part of the scan left):
+// those farther than `tolerance` from it were cut away.
+std::vector<SurfacePoint> locate(const MeshQuery& query, const std::vector<Vec3>& positions,
+                                 double tolerance, std::vector<int>* kept = nullptr) {
+  std::vector<SurfacePoint> out;
+  if (positions.empty()) return out;
+  Eigen::MatrixX3d P(static_cast<int>(positions.size()), 3);
+  for (size_t i = 0; i < positions.size(); ++i) P.row(static_cast<int>(i)) = positions[i];
+  const std::vector<ClosestHit> hits = query.closestPoints(P);
+  for (size_t i = 0; i < hits.size(); ++i)
+    if (hits[i].distance <= tolerance) {
+      out.push_back({hits[i].face, hits[i].bary});
+      if (kept) kept->push_back(static_cast<int>(i));
+    }
+  return out;
+}
+
+std::vector<Eigen::MatrixX3d> curvePolylines(const Isoline& iso, std::vector<bool>& closed) {
+  std::vector<Eigen::MatrixX3d> out;
+  closed.clear();
+  for (const IsolineCurve& c : iso.curves) {
+    Eigen::MatrixX3d P(static_cast<int>(c.points.size()), 3);
+    for (size_t i = 0; i < c.points.size(); ++i)
+      P.row(static_cast<int>(i)) = c.points[i].position.transpose();
+    out.push_back(P);
+    closed.push_back(c.closed);
+  }
+  return out;
+}
+
+// Distance from p to a set of polylines (brute force over segments).
+double distanceToCurves(const Vec3& p, const Isoline& iso) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const IsolineCurve& c : iso.curves) {
+    const size_t n = c.points.size();
+    const size_t segments = c.closed ? n : (n == 0 ? 0 : n - 1);
+    for (size_t i = 0; i < segments; ++i) {
+      const Vec3& a = c.points[i].position;
+      const Vec3& b = c.points[(i + 1) % n].position;
+      const Vec3 ab = b - a;
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      best = std::min(best, (a + t * ab - p).norm());
+    }
+    if (n == 1) best = std::min(best, (c.points[0].position - p).norm());
+  }
+  return best;
+}
+
+// Symmetric mean distance between two isolines (each point to the other curve set).
+double meanCurveDistance(const Isoline& a, const Isoline& b) {
+  if (a.curves.empty() || b.curves.empty()) return std::numeric_limits<double>::infinity();
+  double sum = 0;
+  int count = 0;
+  for (const auto* pair : {&a, &b}) {
+    const Isoline& from = *pair;
+    const Isoline& to = pair == &a ? b : a;
+    for (const IsolineCurve& c : from.curves)
+      for (const IsolinePoint& p : c.points) {
+        sum += distanceToCurves(p.position, to);
+        ++count;
+      }
+  }
+  return count ? sum / count : 0.0;
+}
+
+// Eq. (5): φ_dn(u) = max(2(|o·n_u| − ½), 0) with o the normal of the plane fitted to the
+// boundary curve nearest to u (one plane per loop: two ankle loops of a walking pose are not
+// coplanar). Only vertices within `band` metres of the boundary get it.
+Eigen::VectorXd normalDisplacement(const TriMesh& mesh, const Isoline& boundary,
+                                   const Eigen::VectorXd& phi, double band) {
+  std::vector<Vec3> centroid, normal;
+  for (const IsolineCurve& c : boundary.curves) {
+    if (c.points.size() < 3) continue;
+    Vec3 m = Vec3::Zero();
+    for (const IsolinePoint& p : c.points) m += p.position;
+    m /= static_cast<double>(c.points.size());
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (const IsolinePoint& p : c.points) C += (p.position - m) * (p.position - m).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+    centroid.push_back(m);
+    normal.push_back(eig.eigenvectors().col(0));  // smallest eigenvalue: the plane normal
+  }
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(mesh.numVertices());
+  if (centroid.empty()) return out;
+  const Eigen::MatrixX3d N = vertexNormals(mesh);
+  for (int v = 0; v < mesh.numVertices(); ++v) {
+    if (std::abs(phi[v]) > band) continue;
+    const Vec3 p = mesh.V.row(v).transpose();
+    size_t best = 0;
+    for (size_t c = 1; c < centroid.size(); ++c)
+      if ((p - centroid[c]).squaredNorm() < (p - centroid[best]).squaredNorm()) best = c;
+    const double d = std::abs(normal[best].dot(N.row(v).transpose()));
+    out[v] = std::max(2 * (d - 0.5), 0.0);
+  }
+  return out;
+}
+
+double meanHeight(const Isoline& iso) {
+  double sum = 0, len = 0;
+  for (const IsolineCurve& c : iso.curves) {
+    const size_t n = c.points.size();
+    const size_t segments = c.closed ? n : (n == 0 ? 0 : n - 1);
+    for (size_t i = 0; i < segments; ++i) {
+      const Vec3& a = c.points[i].position;
+      const Vec3& b = c.points[(i + 1) % n].position;
+      sum += 0.5 * (a.y() + b.y()) * (b - a).norm();
+      len += (b - a).norm();
+    }
+  }
+  return len > 0 ? sum / len : 0.0;
+}
+
+// Everything one boundary needs from the scan: its projected features and which colour
+// regions lie on which side.
+struct BoundaryJob {
+  const ProjectedCurve* curve = nullptr;
+  std::vector<int> regions;  // indices into the fitted region models
+  std::vector<bool> positive;
+  bool gapFilling = false;
+  Label garment = Label::Upper, other = Label::Skin;
+};
+
+struct BoundaryRun {
+  BoundaryResult result;
+  BoundaryReport report;
+};
+
+class Segmenter {
+ public:
+  Segmenter(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
+            const FeatureSet& features, const SegmentationOptions& options, Progress& progress)
+      : scan_(scan), options_(options), progress_(progress) {
+    validateMesh(scan, "scan");
+    validateMesh(body, "body");
+    if (colour.rows() != scan.numVertices() || colour.cols() != 3 || !colour.allFinite())
+      throw InputError(
+          "segmentation: the scan has no usable colour (" + std::to_string(colour.rows()) +
+          " colours for " + std::to_string(scan.numVertices()) +
+          " vertices); garment boundaries are found from colour, so give a scan with vertex "
+          "colours or a texture");
+    const BoundingBox bb = boundingBox(body.V);
+    height_ = (bb.max - bb.min).maxCoeff();
+    tolerance_ = 1e-7 * std::max(height_, 1.0);
+    ProjectionOptions popt = options.projection;
+    popt.bodyLength = height_;
+    progress_.begin("project features");
+    const FeatureProjector projector(body, scan, popt);
+    upperSkin_ = projectCurve(projector, features.upperSkin);
+    lowerSkin_ = projectCurve(projector, features.lowerSkin);
+    upperLower_ = projectCurve(projector, features.upperLower);
+    projectRegions(projector, features, colour);
+    progress_.end();
+
+    root_.mesh = scan;
+    root_.lab = colours_.lab;
+    root_.srgb = colour;
+    root_.faceOrigin = Eigen::VectorXi::LinSpaced(scan.numFaces(), 0, scan.numFaces() - 1);
+    root_.scanVertex = Eigen::VectorXi::LinSpaced(scan.numVertices(), 0, scan.numVertices() - 1);
+  }
+
+  Segmentation run() {
+    const auto t0 = Clock::now();
+    Segmentation out;
+    decideLayout(out);
+    LabelAreas labels(scan_.numVertices(), scan_.numFaces());
+    const bool hasUpper = out.layout != GarmentLayout::LowerOnly;
+    const bool hasLower = out.layout != GarmentLayout::UpperOnly;
+    const Label upperLabel = Label::Upper;
+    const Label lowerLabel = out.layout == GarmentLayout::OnePiece ? Label::Upper : Label::Lower;
+
+    Stage current = root_;
+    // B(U|S): head and hands are cut away.
+    if (hasUpper) {
+      BoundaryJob job{&upperSkin_, {kSkin, kUpper}, {true, false}, options_.gapFilling,
+                      upperLabel, Label::Skin};
+      auto [run, cut] = optimiseAndCut(current, job);
+      out.boundaries.push_back(run.report);
+      labels.add(childStage(current, cut.positive), Label::Skin);
+      current = childStage(current, cut.negative);
+    } else {
+      out.notes.push_back("B(U|S) skipped: no upper garment");
+    }
+    // B(L|S): feet (shoes or skin) and bare legs are cut away.
+    if (hasLower) {
+      BoundaryJob job{&lowerSkin_, {kSkin, kLower}, {true, false}, options_.gapFilling,
+                      lowerLabel, Label::Skin};
+      if (out.shoes) {
+        job.regions.push_back(kFoot);
+        job.positive.push_back(true);
+      }
+      auto [run, cut] = optimiseAndCut(current, job);
+      const Stage feet = childStage(current, cut.positive);
+      const Eigen::VectorXi footVertex = skinOrShoes(feet, out.shoes);
+      const Eigen::VectorXi footFace = majorityFaceLabels(feet.mesh, footVertex);
+      labels.add(feet, Label::Skin, &footFace, &footVertex);
+      splitByOtherLabel(run.report, run.result.boundary, current, cut, footVertex);
+      out.boundaries.push_back(run.report);
+      current = childStage(current, cut.negative);
+    } else {
+      out.notes.push_back("B(L|S) skipped: no lower garment");
+    }
+
+    if (out.layout == GarmentLayout::OnePiece) {
+      labels.add(current, Label::Upper);
+      out.garments.push_back(piece("onepiece", Label::Upper, current));
+      out.notes.push_back("B(U|L) skipped: one-piece garment (§5.3)");
+    } else {
+      splitUpperLower(current, out, labels);
+    }
+    out.faceLabel = labels.faceLabels();
+    out.vertexLabel = labels.vertexLabels(scan_, out.faceLabel);
+    out.regionPoints = regionPoints_;
+    out.droppedRegionPoints = droppedRegionPoints_;
+    for (const BoundaryReport& b : out.boundaries)
+      if (!b.converged)
+        out.notes.push_back(fmt::format("boundary {} did not converge in {} iterations", b.name,
+                                        b.iterations));
+    out.seconds = secondsSince(t0);
+    return out;
+  }
+
+ private:
+  static constexpr int kSkin = 0, kUpper = 1, kLower = 2, kFoot = 3;
+
+  void projectRegions(const FeatureProjector& projector, const FeatureSet& features,
+                      const Eigen::MatrixX3d& colour) {
+    std::vector<std::vector<SurfacePoint>> regions(4);
+    for (const RegionPoint& r : features.regions) {
+      const ProjectedPoint q = projector.project(r.point);
+      ++regionPoints_;
+      if (!q.ok()) {
+        ++droppedRegionPoints_;
+        continue;
+      }
+      regions[static_cast<int>(r.label)].push_back(q.point);
+    }
+    static const char* names[] = {"skin", "upper", "lower", "foot"};
+    for (int r = 0; r < 3; ++r)
+      if (regions[r].size() < 4)
+        throw InputError(fmt::format(
+            "segmentation: only {} '{}' region points survived the projection to the scan; the "
+            "colour model needs at least 4 (check the body fit)",
+            regions[r].size(), names[r]));
+    hasFootRegion_ = regions[kFoot].size() >= 4;
+    if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
+    colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
+  }
+
+  double deltaE(int a, int b) const { return deltaE2000(colours_.means[a], colours_.means[b]); }
+
+  void decideLayout(Segmentation& out) {
+    out.upperLowerDeltaE = deltaE(kUpper, kLower);
+    out.upperSkinDeltaE = deltaE(kUpper, kSkin);
+    out.lowerSkinDeltaE = deltaE(kLower, kSkin);
+    out.footSkinDeltaE = hasFootRegion_ ? deltaE(kFoot, kSkin) : 0.0;
+    const double same = options_.sameColourDeltaE;
+    out.shoes = hasFootRegion_ && out.footSkinDeltaE >= same;
+    const bool noUpper = out.upperSkinDeltaE < same, noLower = out.lowerSkinDeltaE < same;
+    if (noUpper && noLower)
+      throw InputError(fmt::format(
+          "segmentation: no garment found: the upper body (ΔE {:.1f}) and the lower body (ΔE "
+          "{:.1f}) have the colour of the skin",
+          out.upperSkinDeltaE, out.lowerSkinDeltaE));
+    if (noUpper) {
+      out.layout = GarmentLayout::LowerOnly;
+      out.notes.push_back(fmt::format("no upper garment: torso colour within ΔE {:.1f} of skin",
+                                      out.upperSkinDeltaE));
+    } else if (noLower) {
+      out.layout = GarmentLayout::UpperOnly;
+      out.notes.push_back(fmt::format("no lower garment: leg colour within ΔE {:.1f} of skin",
+                                      out.lowerSkinDeltaE));
+    } else if (out.upperLowerDeltaE < same) {
+      out.layout = GarmentLayout::OnePiece;
+      out.notes.push_back(fmt::format(
+          "one-piece garment: upper and lower body colours within ΔE {:.1f} (§5.3)",
+          out.upperLowerDeltaE));
+    }
+    if (!out.shoes) out.notes.push_back("no shoes: the feet have the colour of the skin");
+  }
+
+  // Per-vertex skin or shoes on the cut-away feet, by the colour posterior.
+  Eigen::VectorXi skinOrShoes(const Stage& feet, bool shoes) const {
+    Eigen::VectorXi out = Eigen::VectorXi::Constant(feet.mesh.numVertices(),
+                                                    static_cast<int>(Label::Skin));
+    if (!shoes || feet.mesh.numVertices() == 0) return out;
+    const Eigen::VectorXd p = posteriorDisplacement(
+        {colours_.models[kFoot], colours_.models[kSkin]}, {true, false}, feet.lab);
+    for (int v = 0; v < p.size(); ++v)
+      if (p[v] > 0) out[v] = static_cast<int>(Label::Shoes);
+    return out;
+  }
+
+  static Eigen::VectorXi majorityFaceLabels(const TriMesh& mesh, const Eigen::VectorXi& vl) {
+    Eigen::VectorXi out(mesh.numFaces());
+    for (int f = 0; f < mesh.numFaces(); ++f) {
+      const int a = vl[mesh.F(f, 0)], b = vl[mesh.F(f, 1)], c = vl[mesh.F(f, 2)];
+      out[f] = (b == c) ? b : a;
+    }
+    return out;
+  }
+
+  GarmentPiece piece(const std::string& name, Label label, const Stage& s) const {
+    GarmentPiece p;
+    p.name = name;
+    p.label = label;
+    p.mesh = s.mesh;
+    p.colour = s.srgb;
+    p.faceOrigin = s.faceOrigin;
+    return p;
+  }
+
+  struct Located {
+    std::vector<std::vector<SurfacePoint>> splines;
+    std::vector<ValueConstraint> signs;
+  };
+
+  Located locateFeatures(const Stage& stage, const ProjectedCurve& curve) const {
+    const MeshQuery query(stage.mesh);
+    Located out;
+    for (size_t s = 0; s < curve.splines.size(); ++s) {
+      // Anchors cut away by an earlier boundary drop out; the spline goes through the rest.
+      std::vector<Vec3> anchors;
+      for (int i = 0; i < curve.splines[s].rows(); ++i)
+        anchors.push_back(curve.splines[s].row(i).transpose());
+      std::vector<int> kept;
+      locate(query, anchors, tolerance_, &kept);
+      if (kept.size() < (curve.closed[s] ? 3u : 2u)) continue;
+      Eigen::MatrixX3d A(static_cast<int>(kept.size()), 3);
+      for (size_t i = 0; i < kept.size(); ++i) A.row(static_cast<int>(i)) = anchors[kept[i]];
+      // At most about one zero constraint per face: denser constraints make the biharmonic's
+      // zero set wiggle between them at the scale of the mesh.
+      const double spacing = std::max(options_.splineSpacing, meanEdgeLength(stage.mesh));
+      out.splines.push_back(surfaceSpline(query, A, curve.closed[s], spacing));
+    }
+    std::vector<Vec3> positions;
+    for (const Anchor& a : curve.signs) positions.push_back(a.position);
+    std::vector<int> kept;
+    const std::vector<SurfacePoint> pts = locate(query, positions, tolerance_, &kept);
+    for (size_t i = 0; i < pts.size(); ++i) out.signs.push_back({pts[i], curve.signs[kept[i]].value});
+    return out;
+  }
+
+  std::pair<BoundaryRun, CutResult> optimiseAndCut(const Stage& stage, const BoundaryJob& job) {
+    const auto t0 = Clock::now();
+    const ProjectedCurve& curve = *job.curve;
+    progress_.begin(fmt::format("boundary {}", curve.name));
+    BoundaryRun run;
+    BoundaryReport& rep = run.report;
+    rep.name = curve.name;
+    rep.garment = job.garment;
+    rep.other = job.other;
+    rep.anchors = curve.anchors;
+    rep.droppedAnchors = curve.droppedAnchors;
+    rep.signs = curve.numSigns;
+    rep.droppedSigns = curve.droppedSigns;
+    const Located f = locateFeatures(stage, curve);
+    if (f.splines.empty())
+      throw InputError(fmt::format(
+          "segmentation: no spline of boundary {} lies on what the earlier cuts left of the scan",
+          curve.name));
+    int pos = 0, neg = 0;
+    for (const ValueConstraint& c : f.signs) (c.value > 0 ? pos : neg)++;
+    if (pos + neg == 0)
+      throw InputError(fmt::format(
+          "segmentation: boundary {} has {} positive and {} negative sign points on what is left "
+          "of the scan ({} of {} dropped as ill-projected); at least one is needed",
+          curve.name, pos, neg, curve.droppedSigns, curve.numSigns));
+    std::vector<GaussianMixture> models;
+    for (int r : job.regions) models.push_back(colours_.models[r]);
+    const Eigen::VectorXd phiD = posteriorDisplacement(models, job.positive, stage.lab);
+    BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
+    run.result = optimizer.run(f.splines, f.signs, phiD);
+    rep.iterations = run.result.iterations;
+    if (job.gapFilling && !run.result.vanished) {
+      // §5.2: a second pass with the normal displacement (Eq. 6), kept when it moves the
+      // boundary (a gap was bridged).
+      const Eigen::VectorXd phiDn = normalDisplacement(stage.mesh, run.result.boundary,
+                                                       run.result.phi, 0.25 * height_);
+      BoundaryResult second = optimizer.iterate(run.result.phi, f.signs, phiD + phiDn);
+      rep.gapPass = true;
+      rep.gapShift = meanCurveDistance(second.boundary, run.result.boundary);
+      if (!second.vanished && rep.gapShift > options_.gapMinShift) {
+        rep.gapApplied = true;
+        second.phi0 = run.result.phi0;
+        second.initial = run.result.initial;
+        rep.iterations += second.iterations;
+        run.result = std::move(second);
+      }
+    }
+    rep.converged = run.result.converged;
+    rep.vanished = run.result.vanished;
+    rep.timings = run.result.timings;
+    rep.initialCurves = curvePolylines(run.result.initial, rep.initialClosed);
+    rep.finalCurves = curvePolylines(run.result.boundary, rep.finalClosed);
+    rep.otherLabels.assign(rep.finalCurves.size(), job.other);
+    CutResult cut = cutAlongIsoline(stage.mesh, run.result.phi);
+    rep.seconds = secondsSince(t0);
+    progress_.end();
+    return {std::move(run), std::move(cut)};
+  }
+
+  // B(L|S) borders skin or shoes: the reported curves are split where the label of the
+  // cut-away side changes, so each piece carries its true label pair.
+  void splitByOtherLabel(BoundaryReport& rep, const Isoline& iso, const Stage& stage,
+                         const CutResult& cut, const Eigen::VectorXi& footVertex) const {
+    std::vector<int> partOf(stage.mesh.numVertices(), -1);
+    for (size_t v = 0; v < cut.positive.vertexOrigin.size(); ++v)
+      if (cut.positive.vertexOrigin[v].isOriginal())
+        partOf[cut.positive.vertexOrigin[v].a] = static_cast<int>(v);
+    const MeshTopology topo(stage.mesh.F, stage.mesh.numVertices());
+    rep.otherLabels.clear();
+    rep.finalCurves.clear();
+    rep.finalClosed.clear();
+    for (const IsolineCurve& c : iso.curves) {
+      std::vector<int> label;
+      for (const IsolinePoint& p : c.points) {
+        const int a = topo.edges()(p.edge, 0), b = topo.edges()(p.edge, 1);
+        const int v = partOf[a] >= 0 ? partOf[a] : partOf[b];
+        label.push_back(v >= 0 ? footVertex[v] : static_cast<int>(Label::Skin));
+      }
+      // Runs of one label; a closed curve of one label stays closed.
+      const size_t n = c.points.size();
+      bool uniform = true;
+      for (size_t i = 1; i < n; ++i) uniform &= label[i] == label[0];
+      if (uniform || n < 2) {
+        Eigen::MatrixX3d P(static_cast<int>(n), 3);
+        for (size_t i = 0; i < n; ++i) P.row(static_cast<int>(i)) = c.points[i].position;
+        rep.finalCurves.push_back(P);
+        rep.finalClosed.push_back(c.closed);
+        rep.otherLabels.push_back(static_cast<Label>(n ? label[0] : 0));
+        continue;
+      }
+      size_t start = 0;  // begin at a label change so that no run wraps around
+      if (c.closed)
+        while (label[start] == label[(start + n - 1) % n]) ++start;
+      size_t i = 0;
+      while (i < n) {
+        std::vector<Vec3> run;
+        const int l = label[(start + i) % n];
+        while (i < n && label[(start + i) % n] == l) run.push_back(c.points[(start + i++) % n].position);
+        if (i < n || c.closed) run.push_back(c.points[(start + i) % n].position);  // join the next run
+        Eigen::MatrixX3d P(static_cast<int>(run.size()), 3);
+        for (size_t k = 0; k < run.size(); ++k) P.row(static_cast<int>(k)) = run[k];
+        rep.finalCurves.push_back(P);
+        rep.finalClosed.push_back(false);
+        rep.otherLabels.push_back(static_cast<Label>(l));
+      }
+    }
+  }
+
+  // B(U|L) and §5.3: occlusion from where the optimised waist lies against the initial one.
+  void splitUpperLower(const Stage& stage, Segmentation& out, LabelAreas& labels) {
+    const bool lowerOnly = out.layout == GarmentLayout::LowerOnly;
+    const bool upperOnly = out.layout == GarmentLayout::UpperOnly;
+    BoundaryJob job{&upperLower_, {lowerOnly ? kSkin : kUpper, upperOnly ? kSkin : kLower},
+                    {true, false}, false, Label::Upper, Label::Lower};
+    if (lowerOnly) {
+      job.garment = Label::Lower;
+      job.other = Label::Skin;
+    } else if (upperOnly) {
+      job.other = Label::Skin;
+    }
+    auto [run, cut] = optimiseAndCut(stage, job);
+    const Label positiveLabel = lowerOnly ? Label::Skin : Label::Upper;
+    const Label negativeLabel = upperOnly ? Label::Skin : Label::Lower;
+    const Stage positive = childStage(stage, cut.positive), negative = childStage(stage, cut.negative);
+    labels.add(positive, positiveLabel);
+    labels.add(negative, negativeLabel);
+    if (lowerOnly) {
+      out.garments.push_back(piece("lower", Label::Lower, negative));
+    } else if (upperOnly) {
+      out.garments.push_back(piece("upper", Label::Upper, positive));
+    } else {
+      const double shift = meanHeight(run.result.boundary) - meanHeight(run.result.initial);
+      GarmentPiece upper = piece("upper", Label::Upper, positive);
+      GarmentPiece lower = piece("lower", Label::Lower, negative);
+      if (std::abs(shift) >= options_.occlusionShift && !run.result.initial.curves.empty()) {
+        // The optimised boundary below the initial one: the upper garment hangs over the lower
+        // one, whose hidden part reaches up to the initial boundary (and vice versa).
+        out.occlusion = shift < 0 ? Occlusion::LowerOccluded : Occlusion::UpperOccluded;
+        const CutResult initialCut = cutAlongIsoline(stage.mesh, run.result.phi0);
+        const bool lowerHidden = out.occlusion == Occlusion::LowerOccluded;
+        const CutPart& part = lowerHidden ? initialCut.negative : initialCut.positive;
+        GarmentPiece& hidden = lowerHidden ? lower : upper;
+        hidden = completeOccluded(hidden.name, hidden.label, stage, part, run.result.phi,
+                                  lowerHidden);
+        out.notes.push_back(fmt::format(
+            "{} garment occluded: the optimised waist boundary lies {:.0f} mm {} the initial one; "
+            "{:.3f} m² completed under the {} garment (§5.3)",
+            lowerHidden ? "lower" : "upper", 1000 * std::abs(shift), shift < 0 ? "below" : "above",
+            hidden.completedArea, lowerHidden ? "upper" : "lower"));
+      }
+      out.garments.push_back(std::move(upper));
+      out.garments.push_back(std::move(lower));
+    }
+    out.boundaries.push_back(run.report);
+  }
+
+  // The occluded garment cut along the initial boundary; the band the outer garment covers
+  // (where the optimised φ says "other garment") is pulled onto the body by a biharmonic
+  // deformation with the visible part fixed (Fig. 10).
+  GarmentPiece completeOccluded(const std::string& name, Label label, const Stage& stage,
+                                const CutPart& part, const Eigen::VectorXd& phiFinal,
+                                bool lowerHidden) const {
+    const Stage s = childStage(stage, part);
+    GarmentPiece p = piece(name, label, s);
+    const int n = s.mesh.numVertices();
+    std::vector<bool> fixed(n, false);
+    std::vector<int> rim;
+    std::vector<bool> hiddenVertex(n, false);
+    for (int v = 0; v < n; ++v) {
+      const VertexOrigin& o = part.vertexOrigin[v];
+      const double phi = (1 - o.t) * phiFinal[o.a] + o.t * phiFinal[o.b];
+      // Hidden: on the outer garment's side of the optimised boundary.
+      const bool hidden = lowerHidden ? phi >= 0 : phi < 0;
+      hiddenVertex[v] = hidden;
+      if (!o.isOriginal())
+        rim.push_back(v);
+      else if (!hidden)
+        fixed[v] = true;
+    }
+    if (rim.empty()) return p;
+    Eigen::MatrixX3d rimPositions(static_cast<int>(rim.size()), 3);
+    for (size_t i = 0; i < rim.size(); ++i) rimPositions.row(static_cast<int>(i)) = s.mesh.V.row(rim[i]);
+    const std::vector<ClosestHit> onBody = bodyQuery().closestPoints(rimPositions);
+    Eigen::MatrixX3d targets(static_cast<int>(rim.size()), 3);
+    for (size_t i = 0; i < rim.size(); ++i) targets.row(static_cast<int>(i)) = onBody[i].point.transpose();
+    p.mesh.V = biharmonicDeformation(s.mesh, rim, targets, fixed);
+    p.occluded = true;
+    const Eigen::VectorXd a = faceAreas(p.mesh);
+    for (int f = 0; f < p.mesh.numFaces(); ++f) {
+      int hidden = 0;
+      for (int k = 0; k < 3; ++k) hidden += hiddenVertex[p.mesh.F(f, k)];
+      if (hidden >= 2) p.completedArea += a[f];
+    }
+    return p;
+  }
+
+  const MeshQuery& bodyQuery() const { return *bodyQuery_; }
+
+ public:
+  void setBody(const TriMesh& body) { bodyQuery_ = std::make_unique<MeshQuery>(body); }
+
+ private:
+  const TriMesh& scan_;
+  SegmentationOptions options_;
+  Progress& progress_;
+  double height_ = 1.75;
+  double tolerance_ = 1e-7;
+  ProjectedCurve upperSkin_, lowerSkin_, upperLower_;
+  RegionColours colours_;
+  bool hasFootRegion_ = false;
+  int regionPoints_ = 0, droppedRegionPoints_ = 0;
+  Stage root_;
+  std::unique_ptr<MeshQuery> bodyQuery_;
+};
+
+}  // namespace
+
+Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
+                         const FeatureSet& features, const SegmentationOptions& options,
+                         Progress* progress) {
+  Progress& p = progress ? *progress : Progress::silent();
+  Segmenter s(scan, colour, body, features, options, p);
+  s.setBody(body);
+  return s.run();
+}
+
+}  // namespace s2p

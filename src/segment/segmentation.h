@@ -1,0 +1,112 @@
+// The whole garment segmentation of paper §5: feature projection, the three boundaries in the
+// paper's order B(U|S) → B(L|S) → B(U|L), each optimised by Algorithm 1 on what the previous
+// cut left, gap-filling triangles (§5.2), the upper/lower split with one-piece and occlusion
+// detection and the completion of the occluded garment (§5.3), plus what the paper does not
+// do: detecting a missing upper or lower garment and reporting boundaries that did not
+// converge.
+//
+// Sign conventions follow the feature set (body/features.h): φ > 0 on the skin side of B(U|S)
+// (nose, hand tips), on the foot side of B(L|S) (toes, soles) and on the upper side of B(U|L)
+// (chest).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "body/features.h"
+#include "core/labels.h"
+#include "core/progress.h"
+#include "core/tri_mesh.h"
+#include "segment/boundary_optimizer.h"
+#include "segment/colour_model.h"
+#include "segment/projection.h"
+
+namespace s2p {
+
+enum class GarmentLayout {
+  UpperLower,  // separate upper and lower garments
+  OnePiece,    // one garment over upper and lower body (dress; §5.3 skips B(U|L))
+  UpperOnly,   // no lower garment: the legs are bare
+  LowerOnly    // no upper garment: the torso is bare
+};
+const char* toString(GarmentLayout layout);
+
+// Which garment the other hides at the waist (§5.3).
+enum class Occlusion { None, LowerOccluded, UpperOccluded };
+const char* toString(Occlusion occlusion);
+
+struct SegmentationOptions {
+  BoundaryOptions boundary;
+  ColourModelOptions colour;
+  ProjectionOptions projection;  // bodyLength is set from the body's height
+  double splineSpacing = 0.005;  // m between samples of the initial surface spline
+  // §5.2: the second pass with the normal displacement (Eq. 5–6) replaces the first pass's
+  // boundary when it moves it by more than this mean distance (m): a gap was bridged. Below,
+  // the first pass stands (on a scan without gap triangles Eq. 6 only nudges the boundary
+  // over the hem's riser).
+  double gapMinShift = 0.01;
+  bool gapFilling = true;
+  // §5.3 and the missing-garment tests: two regions are "the same colour" when the CIEDE2000
+  // difference of their mean CIELAB colours is below this.
+  double sameColourDeltaE = 10.0;
+  // §5.3: the optimised waist boundary is "close to" the initial one when its mean height
+  // differs by less than this (m); otherwise the garment on the lower side is occluded.
+  double occlusionShift = 0.03;
+};
+
+// One optimised boundary.
+struct BoundaryReport {
+  std::string name;  // "U|S", "L|S", "U|L"
+  Label garment = Label::Upper;  // the garment side's label
+  Label other = Label::Skin;     // the other side's main label
+  std::vector<Eigen::MatrixX3d> initialCurves, finalCurves;  // polylines, metres
+  std::vector<bool> initialClosed, finalClosed;
+  std::vector<Label> otherLabels;  // per final curve: the label beyond it (skin or shoes)
+  int anchors = 0, droppedAnchors = 0;  // spline anchors projected, and dropped (App. B)
+  int signs = 0, droppedSigns = 0;
+  int iterations = 0;  // of the pass kept
+  bool converged = false;
+  bool vanished = false;    // the zero set disappeared: one side took the whole mesh
+  bool gapPass = false;     // the Eq. 6 pass was run
+  bool gapApplied = false;  // ... and its boundary was kept
+  double gapShift = 0;      // mean distance (m) between the two passes' boundaries
+  double seconds = 0;
+  BoundaryTimings timings;
+};
+
+// A cut garment: part of the scan, each face inside one scan face.
+struct GarmentPiece {
+  std::string name;  // "upper", "lower", "onepiece"
+  Label label = Label::Upper;
+  TriMesh mesh;
+  Eigen::MatrixX3d colour;   // #V×3 sRGB
+  Eigen::VectorXi faceOrigin;  // #F: scan face each face lies in
+  bool occluded = false;     // its hidden part was completed (§5.3, Fig. 10)
+  double completedArea = 0;  // m² of the hidden part added under the other garment
+};
+
+struct Segmentation {
+  Eigen::VectorXi vertexLabel;  // #V of the scan, Label codes
+  Eigen::VectorXi faceLabel;    // #F of the scan: the label holding most of the face's area
+  std::vector<GarmentPiece> garments;
+  std::vector<BoundaryReport> boundaries;
+  GarmentLayout layout = GarmentLayout::UpperLower;
+  Occlusion occlusion = Occlusion::None;
+  bool shoes = true;  // the foot region's colour differs from skin
+  double upperLowerDeltaE = 0, upperSkinDeltaE = 0, lowerSkinDeltaE = 0, footSkinDeltaE = 0;
+  int regionPoints = 0, droppedRegionPoints = 0;
+  double seconds = 0;
+  std::vector<std::string> notes;  // what was detected or skipped, for the report
+};
+
+// Segments `scan` (colour: #V×3 sRGB in [0, 1]) with the posed body mesh `body` that carries
+// `features` (surface points on body faces; the fully fitted body of §5.1.2 or the true body).
+// Throws InputError for a scan without colour, a body that does not overlap the scan, or a
+// spline of which every anchor was ill-projected (naming it); TopologyError for a scan the
+// isolines cannot be traced on (non-manifold crossed edges).
+Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
+                         const FeatureSet& features, const SegmentationOptions& options = {},
+                         Progress* progress = nullptr);
+
+}  // namespace s2p
