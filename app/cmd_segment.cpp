@@ -1,6 +1,7 @@
 // segment: garment segmentation of a scan with a known posed body (paper §5).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
 #include <memory>
 
@@ -9,6 +10,9 @@
 #include "body/body_json.h"
 #include "body/body_source.h"
 #include "core/error.h"
+#include "eval/evaluation_files.h"
+#include "io/write_mesh.h"
+#include "synth/truth.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -37,52 +41,160 @@ json readJsonFile(const fs::path& path, const std::string& what) {
   }
 }
 
+// The posed body of a body JSON (bodyToJson: "source", shape, pose), moved into the normalised
+// frame of `scan` (the JSON is in the scan file's frame), with its feature set.
+struct PosedFeatures {
+  TriMesh body;
+  FeatureSet features;
+};
+
+PosedFeatures poseFromJson(const json& bodyJson, const Scan& scan, Progress& progress) {
+  if (!bodyJson.contains("source") || !bodyJson["source"].is_string())
+    throw FormatError("the body JSON has no \"source\" (mannequin, mpfb2:DIR or smpl:FILE)");
+  const std::string source = bodyJson["source"].get<std::string>();
+  progress.begin("pose body " + source);
+  const BodyModel model = loadBodyModel(source);
+  const BodyParams params = bodyParamsFromJson(bodyJson, model);
+  PosedFeatures out;
+  out.body = poseBody(model, params).mesh;
+  const Eigen::Affine3d toScan = scan.toInputFrame.inverse();
+  out.body.V = ((toScan.linear() * out.body.V.transpose()).colwise() + toScan.translation())
+                   .transpose();
+  out.features = computeFeatures(model, params.shape);
+  progress.end();
+  return out;
+}
+
+json truthBody(const fs::path& truth) {
+  const json t = readJsonFile(truth, "truth file");
+  if (!t.contains("body") || !t["body"].is_object())
+    throw FormatError(fmt::format("truth file {} has no \"body\" object", truth.string()));
+  return t["body"];
+}
+
+SegmentOutput runSegmenter(const std::string& segmenter, const Scan& scan,
+                           const PosedFeatures& body, const SegmentationOptions& options,
+                           Progress& progress) {
+  if (segmenter == "mrf") return segmentWithMrf(scan, body.body, body.features, options, progress);
+  return {segmentScan(scan.mesh, scan.colour, body.body, body.features, options, &progress),
+          "curve"};
+}
+
+void checkSegmenter(const std::string& segmenter) {
+  if (segmenter != "curve" && segmenter != "mrf")
+    throw CLI::ValidationError("--segmenter", "use curve (the paper's method) or mrf");
+}
+
+SegmentationOptions segmentationOptions(bool fast, bool noGapFilling) {
+  SegmentationOptions options;
+  options.boundary.faithful = !fast;
+  options.gapFilling = !noGapFilling;
+  return options;
+}
+
 int runSegment(const SegmentCommand& cmd, Progress& progress) {
   if (cmd.truth.empty() == cmd.body.empty())
     throw CLI::ValidationError("--truth/--body", "give exactly one of --truth and --body");
-  if (cmd.segmenter != "curve" && cmd.segmenter != "mrf")
-    throw CLI::ValidationError("--segmenter", "use curve (the paper's method) or mrf");
-  json bodyJson;
-  if (!cmd.truth.empty()) {
-    const json t = readJsonFile(cmd.truth, "truth file");
-    if (!t.contains("body") || !t["body"].is_object())
-      throw FormatError(fmt::format("truth file {} has no \"body\" object", cmd.truth));
-    bodyJson = t["body"];
-  } else {
-    bodyJson = readJsonFile(cmd.body, "body file");
-  }
-  if (!bodyJson.contains("source") || !bodyJson["source"].is_string())
-    throw FormatError("the body JSON has no \"source\" (mannequin, mpfb2:DIR or smpl:FILE)");
-
+  checkSegmenter(cmd.segmenter);
+  const json bodyJson = cmd.truth.empty() ? readJsonFile(cmd.body, "body file") : truthBody(cmd.truth);
   const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
-  const Scan& scan = loaded.scan;
-  progress.begin("pose body " + bodyJson["source"].get<std::string>());
-  const BodyModel model = loadBodyModel(bodyJson["source"].get<std::string>());
-  const BodyParams params = bodyParamsFromJson(bodyJson, model);
-  PosedBody posed = poseBody(model, params);
-  // The body JSON is in the scan file's frame; the scan was normalised.
-  const Eigen::Affine3d toScan = scan.toInputFrame.inverse();
-  posed.mesh.V = ((toScan.linear() * posed.mesh.V.transpose()).colwise() + toScan.translation())
-                     .transpose();
-  const FeatureSet features = computeFeatures(model, params.shape);
-  progress.end();
-
-  SegmentationOptions options;
-  options.boundary.faithful = !cmd.fast;
-  options.gapFilling = !cmd.noGapFilling;
-  const SegmentOutput result =
-      cmd.segmenter == "mrf"
-          ? segmentWithMrf(scan, posed.mesh, features, options, progress)
-          : SegmentOutput{segmentScan(scan.mesh, scan.colour, posed.mesh, features, options,
-                                      &progress),
-                          "curve"};
+  const PosedFeatures body = poseFromJson(bodyJson, loaded.scan, progress);
+  const SegmentOutput result = runSegmenter(cmd.segmenter, loaded.scan, body,
+                                            segmentationOptions(cmd.fast, cmd.noGapFilling),
+                                            progress);
   progress.begin("write outputs");
-  writeSegmentation(cmd.out, scan, posed.mesh, result);
+  writeSegmentation(cmd.out, loaded.scan, body.body, result);
   progress.end();
   printSegmentation(result.segmentation);
   fmt::print("wrote {}/: segmentation.ply, {}boundaries.json, garments.json, "
              "segment_boundaries.png, segment_labels.png\n",
              cmd.out, garmentFileList(result.segmentation));
+  return 0;
+}
+
+// === segment-suite: every scan of a bench-suite folder, segmented with its true body and scored.
+
+struct SuiteCommand {
+  std::string suiteDir;
+  std::string out = "segment_suite_out";
+  std::string segmenter = "curve";
+  std::string only;
+  bool fast = false;
+  bool noGapFilling = false;
+};
+
+int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
+  checkSegmenter(cmd.segmenter);
+  if (!fs::is_directory(cmd.suiteDir))
+    throw IoError(fmt::format("{} is not a folder (make one with scan2pattern bench-suite -o DIR)",
+                              cmd.suiteDir));
+  std::vector<fs::path> truths;
+  for (const auto& e : fs::directory_iterator(cmd.suiteDir))
+    if (e.is_directory() && fs::exists(e.path() / "truth.json") &&
+        (cmd.only.empty() || e.path().filename() == cmd.only))
+      truths.push_back(e.path() / "truth.json");
+  std::sort(truths.begin(), truths.end());
+  if (truths.empty())
+    throw IoError(fmt::format("no <name>/truth.json under {}", cmd.suiteDir));
+  const SegmentationOptions options = segmentationOptions(cmd.fast, cmd.noGapFilling);
+  json rows = json::array();
+  std::string table =
+      "| preset | layout | occlusion | garment IoU | boundary mean mm | worst p95 mm | worst "
+      "roughness | missing | seconds |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const fs::path& truthPath : truths) {
+    const std::string name = truthPath.parent_path().filename().string();
+    progress.message(fmt::format("suite entry {}", name));
+    const Truth truth = readTruth(truthPath);
+    const fs::path scanPath = truthPath.parent_path() / truth.scanFile;
+    const fs::path outDir = fs::path(cmd.out) / name;
+    json row = {{"preset", name}};
+    try {
+      const LoadedScan loaded = loadScan(scanPath, {}, progress);
+      const PosedFeatures body = poseFromJson(truth.body, loaded.scan, progress);
+      const SegmentOutput result =
+          runSegmenter(cmd.segmenter, loaded.scan, body, options, progress);
+      writeSegmentation(outDir, loaded.scan, body.body, result);
+      const LoadedEvaluation ev = loadEvaluation(resolveEvaluationFiles(truthPath, outDir));
+      const Evaluation e = evaluate(ev.input());
+      writeJson(outDir / "evaluation.json", evaluationToJson(e));
+      double meanSum = 0, worstP95 = 0, worstRough = 0;
+      int scored = 0;
+      std::string missing;
+      for (const BoundaryScore& b : e.boundaries) {
+        if (b.missing) {
+          missing += fmt::format("{}{}|{}", missing.empty() ? "" : " ", toString(b.a), toString(b.b));
+          continue;
+        }
+        meanSum += b.pooled.mean;
+        worstP95 = std::max(worstP95, b.pooled.p95);
+        worstRough = std::max(worstRough, b.roughness);
+        ++scored;
+      }
+      const Segmentation& s = result.segmentation;
+      row.update({{"layout", toString(s.layout)},
+                  {"occlusion", toString(s.occlusion)},
+                  {"garment_iou", e.meanGarmentIoU},
+                  {"boundary_mean_mm", scored ? 1000 * meanSum / scored : 0.0},
+                  {"worst_p95_mm", 1000 * worstP95},
+                  {"worst_roughness", worstRough},
+                  {"missing", missing},
+                  {"seconds", s.seconds},
+                  {"evaluation", evaluationToJson(e)}});
+      table += fmt::format("| {} | {} | {} | {:.3f} | {:.2f} | {:.2f} | {:.3f} | {} | {:.1f} |\n",
+                           name, toString(s.layout), toString(s.occlusion), e.meanGarmentIoU,
+                           row["boundary_mean_mm"].get<double>(), 1000 * worstP95, worstRough,
+                           missing.empty() ? "-" : missing, s.seconds);
+    } catch (const Error& err) {
+      row["error"] = err.what();
+      table += fmt::format("| {} | error: {} |||||||\n", name, err.what());
+    }
+    rows.push_back(row);
+  }
+  fs::create_directories(cmd.out);
+  writeJson(fs::path(cmd.out) / "segment_suite.json",
+            {{"segmenter", cmd.segmenter}, {"fast", cmd.fast}, {"rows", rows}});
+  writeFileAtomically(fs::path(cmd.out) / "segment_suite.md", table);
+  fmt::print("{}", table);
   return 0;
 }
 
@@ -109,6 +221,19 @@ void addSegmentCommand(CLI::App& app, Commands& out) {
                 "Skip the second pass for gap-filling triangles (§5.2)");
   addLoadOptions(cmd, o->load);
   out.push_back({cmd, [o](Progress& progress) { return runSegment(*o, progress); }});
+
+  auto so = std::make_shared<SuiteCommand>();
+  auto* suite = app.add_subcommand(
+      "segment-suite",
+      "Segment every scan of a bench-suite folder with its true body, score each against its "
+      "truth.json and print the table (segment_suite.md, segment_suite.json)");
+  suite->add_option("DIR", so->suiteDir, "Folder written by scan2pattern bench-suite")->required();
+  suite->add_option("-o,--output", so->out, "Output folder")->capture_default_str();
+  suite->add_option("--segmenter", so->segmenter, "curve or mrf")->capture_default_str();
+  suite->add_option("--only", so->only, "Run only the entry of this name");
+  suite->add_flag("--fast", so->fast, "Fast boundary optimisation");
+  suite->add_flag("--no-gap-filling", so->noGapFilling, "Skip the gap-filling pass (§5.2)");
+  out.push_back({suite, [so](Progress& progress) { return runSegmentSuite(*so, progress); }});
 }
 
 }  // namespace s2p::app

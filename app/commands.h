@@ -32,7 +32,7 @@ void addBodyCommand(CLI::App& app, Commands& out);   // body
 void addDemoCommand(CLI::App& app, Commands& out);   // demo
 void addEvalCommand(CLI::App& app, Commands& out);   // eval
 void addSynthCommands(CLI::App& app, Commands& out);  // synth, bench-suite
-void addSegmentCommand(CLI::App& app, Commands& out);  // segment
+void addSegmentCommand(CLI::App& app, Commands& out);  // segment, segment-suite
 
 // === Shared: read + clean + normalise, as every command that takes a SCAN does.
 

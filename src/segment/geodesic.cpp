@@ -140,12 +140,12 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-// Distance at C from the accepted corners A (dA) and B (dB) of one triangle: the planar wave
-// whose virtual source S is at distances dA, dB from A and B on the far side of AB, when the
-// ray S → C enters the triangle through AB; else the better of the two edge updates.
+// Distance at C from the accepted corners A (dA) and B (dB) of one triangle: the plane wave
+// d(X) = dA + n·(X − A), |n| = 1, that takes the values dA and dB at A and B and travels
+// towards C, when its characteristic through C enters the triangle through AB (upwind); else
+// the better of the two edge updates. Exact for planar fronts (Kimmel and Sethian 1998).
 double triangleUpdate(const Vec3& A, const Vec3& B, const Vec3& C, double dA, double dB) {
-  const double edgeA = dA + (C - A).norm(), edgeB = dB + (C - B).norm();
-  const double edges = std::min(edgeA, edgeB);
+  const double edges = std::min(dA + (C - A).norm(), dB + (C - B).norm());
   const Vec3 ab = B - A;
   const double c = ab.norm();
   if (c <= 0) return edges;
@@ -153,15 +153,12 @@ double triangleUpdate(const Vec3& A, const Vec3& B, const Vec3& C, double dA, do
   const Vec3 ac = C - A;
   const double cx = ac.dot(ex);
   const double cy = (ac - cx * ex).norm();
-  if (cy <= 0) return edges;
-  const double xs = (dA * dA - dB * dB + c * c) / (2 * c);
-  const double ys2 = dA * dA - xs * xs;
-  if (ys2 < 0) return edges;
-  const double ys = -std::sqrt(ys2);
-  const double t = -ys / (cy - ys);
-  const double x = xs + t * (cx - xs);
+  const double nx = (dB - dA) / c;
+  if (cy <= 0 || std::abs(nx) >= 1) return edges;
+  const double ny = std::sqrt(1 - nx * nx);
+  const double x = cx - nx * cy / ny;  // where the characteristic through C meets AB
   if (x < 0 || x > c) return edges;
-  return std::min(edges, std::hypot(cx - xs, cy - ys));
+  return std::min(edges, dA + nx * cx + ny * cy);
 }
 
 double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {

@@ -155,9 +155,15 @@ TEST(BoundaryOptimizer, BadInputThrowsInputError) {
   BoundaryOptimizer o(c.mesh);
   EXPECT_THROW(o.run({}, c.signs, c.phiD), InputError);  // no spline
   EXPECT_THROW(o.run(c.splines, c.signs, Eigen::VectorXd::Zero(3)), InputError);
-  const std::vector<ValueConstraint> onlyPositive(c.signs.begin(), c.signs.begin() + 4);
-  EXPECT_THROW(o.run(c.splines, onlyPositive, c.phiD), InputError);
-  EXPECT_THROW(BoundaryOptimizer(c.mesh, {.alpha = -1, .heat = {}, .biharmonic = {}}), InputError);
+  // One-sided sign points are allowed (the paper's B(L|S) and B(U|L) have only positive ones);
+  // none at all, or only zero values, are not.
+  EXPECT_THROW(o.run(c.splines, {}, c.phiD), InputError);
+  std::vector<ValueConstraint> zeros(c.signs.begin(), c.signs.begin() + 2);
+  for (auto& z : zeros) z.value = 0;
+  EXPECT_THROW(o.run(c.splines, zeros, c.phiD), InputError);
+  BoundaryOptions bad;
+  bad.alpha = -1;
+  EXPECT_THROW(BoundaryOptimizer(c.mesh, bad), InputError);
 }
 
 }  // namespace
