@@ -49,18 +49,12 @@ struct PosedFeatures {
 };
 
 PosedFeatures poseFromJson(const json& bodyJson, const Scan& scan, Progress& progress) {
-  if (!bodyJson.contains("source") || !bodyJson["source"].is_string())
-    throw FormatError("the body JSON has no \"source\" (mannequin, mpfb2:DIR or smpl:FILE)");
-  const std::string source = bodyJson["source"].get<std::string>();
-  progress.begin("pose body " + source);
-  const BodyModel model = loadBodyModel(source);
-  const BodyParams params = bodyParamsFromJson(bodyJson, model);
-  PosedFeatures out;
-  out.body = poseBody(model, params).mesh;
+  progress.begin("pose body");
+  BodyFromJson b = bodyFromJson(bodyJson);
+  PosedFeatures out{std::move(b.posed.mesh), std::move(b.features)};
   const Eigen::Affine3d toScan = scan.toInputFrame.inverse();
   out.body.V = ((toScan.linear() * out.body.V.transpose()).colwise() + toScan.translation())
                    .transpose();
-  out.features = computeFeatures(model, params.shape);
   progress.end();
   return out;
 }

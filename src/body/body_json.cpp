@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "body/body_source.h"
 #include "core/error.h"
 
 namespace s2p {
@@ -101,6 +102,17 @@ BodyParams bodyParamsFromJson(const nlohmann::json& json, const BodyModel& model
   if (json.contains("translation"))
     p.pose.translation = readVec3(json["translation"], "translation");
   return p;
+}
+
+BodyFromJson bodyFromJson(const nlohmann::json& json) {
+  if (!json.is_object() || !json.contains("source") || !json["source"].is_string())
+    throw FormatError(
+        "the body JSON has no \"source\" (mannequin, mpfb2:DIR or smpl:FILE.npz)");
+  BodyFromJson out{loadBodyModel(json["source"].get<std::string>()), {}, {}, {}};
+  out.params = bodyParamsFromJson(json, out.model);
+  out.posed = poseBody(out.model, out.params);
+  out.features = computeFeatures(out.model, out.params.shape);
+  return out;
 }
 
 }  // namespace s2p

@@ -246,7 +246,12 @@ void regionFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
       fs.regions.push_back({r.surface(p), label});
     }
   };
-  // Skin: the face (front half of head sections), hands, forearms.
+  // Each region samples only where its label is on every outfit the method covers, so that its
+  // colour model is not a mixture with another label: the face and hands are skin under any
+  // sleeve; the chest is covered by any upper garment (the shoulders are not, with a sleeveless
+  // top); the hips and the top of the thighs by any lower garment (shorts and mini skirts leave
+  // mid-thigh bare).
+  // Skin: the face (front half of head sections) and hands.
   const Vec3 headAxis = r.at(C::HeadTop) - r.at(C::Neck);
   for (double t : {0.45, 0.6, 0.75})
     addLoop(r.boneLoop(C::Neck, C::HeadTop, t, "head"), headAxis, RegionLabel::Skin, kFront);
@@ -255,24 +260,15 @@ void regionFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     for (double t : {0.35, 0.65})
       addLoop(r.boneLoop(s.wrist, s.handTip, t, fmt::format("{} hand", s.name)), hand,
               RegionLabel::Skin);
-    const Vec3 fore = r.at(s.wrist) - r.at(s.elbow);
-    for (double t : {0.55, 0.8})
-      addLoop(r.boneLoop(s.elbow, s.wrist, t, fmt::format("{} forearm", s.name)), fore,
-              RegionLabel::Skin);
   }
-  // Upper: chest and back, shoulders.
+  // Upper: chest and back.
   const Vec3 spine = r.at(C::Neck) - r.at(C::Pelvis);
   for (double t : {0.5, 0.62, 0.74}) addLoop(r.torsoLoop(t, "chest"), spine, RegionLabel::Upper);
-  for (const Side& s : kSides) {
-    const Vec3 upperArm = r.at(s.elbow) - r.at(s.shoulder);
-    addLoop(r.boneLoop(s.shoulder, s.elbow, 0.2, fmt::format("{} shoulder", s.name)), upperArm,
-            RegionLabel::Upper);
-  }
-  // Lower: hips and thighs.
+  // Lower: hips and the top of the thighs.
   addLoop(r.torsoLoop(kHipT, "hips"), spine, RegionLabel::Lower);
   for (const Side& s : kSides) {
     const Vec3 thigh = r.at(s.knee) - r.at(s.hip);
-    for (double t : {0.35, 0.55})
+    for (double t : {0.1, 0.18})
       addLoop(r.boneLoop(s.hip, s.knee, t, fmt::format("{} thigh", s.name)), thigh,
               RegionLabel::Lower);
   }

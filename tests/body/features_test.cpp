@@ -142,7 +142,7 @@ TEST_P(FeatureRules, LoopsRingTheirBonesAndSignsLieOnTheirSides_Slow) {
     for (const auto& s : fs.upperLower.signs) EXPECT_GT((P(s.point) - waistC).dot(spine), 0);
 
     // Regions: enough points of each label; upper above the waist, lower and foot below it,
-    // foot below the ankle loops' mean height, skin on the head / arms (far from the pelvis).
+    // foot below the ankle loops' mean height, skin on the head and hands.
     std::map<RegionLabel, int> count;
     for (const auto& r : fs.regions) {
       ++count[r.label];

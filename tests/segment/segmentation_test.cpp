@@ -1,0 +1,128 @@
+// The whole segmentation on synthetic scans with their true body: known answers from the
+// generator's labels and curves.
+#include "segment/segmentation.h"
+
+#include <gtest/gtest.h>
+
+#include "body/body_json.h"
+#include "core/error.h"
+#include "eval/evaluation.h"
+#include "eval/labelling.h"
+#include "synth/presets.h"
+#include "synth/synthesize.h"
+
+namespace s2p {
+namespace {
+
+struct Case {
+  SynthScan scan;
+  BodyFromJson body;
+};
+
+const Case& synthCase(const std::string& preset, int vertices) {
+  static std::map<std::string, Case> cache;
+  const std::string key = preset + std::to_string(vertices);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    SynthOptions o = presetOptions(preset);
+    o.geometry.targetVertices = vertices;
+    SynthScan s = synthesize(o);
+    BodyFromJson b = bodyFromJson(s.truth.body);
+    it = cache.emplace(key, Case{std::move(s), std::move(b)}).first;
+  }
+  return it->second;
+}
+
+Evaluation score(const Case& c, const Segmentation& seg) {
+  const LabelledMesh truth{c.scan.scan.mesh, c.scan.faceLabel};
+  const LabelledMesh pred{c.scan.scan.mesh, seg.faceLabel};
+  std::vector<TrueBoundary> curves;
+  for (const BoundaryReport& b : seg.boundaries)
+    for (size_t i = 0; i < b.finalCurves.size(); ++i) {
+      TrueBoundary t;
+      t.a = std::min(b.garment, b.otherLabels[i]);
+      t.b = std::max(b.garment, b.otherLabels[i]);
+      t.curves = {b.finalCurves[i]};
+      t.closed = {b.finalClosed[i]};
+      auto same = std::find_if(curves.begin(), curves.end(),
+                               [&](const TrueBoundary& x) { return x.a == t.a && x.b == t.b; });
+      if (same == curves.end()) {
+        curves.push_back(t);
+      } else {
+        same->curves.push_back(t.curves[0]);
+        same->closed.push_back(t.closed[0]);
+      }
+    }
+  EvaluationInput in;
+  in.truth = &c.scan.truth;
+  in.truthMesh = &truth;
+  in.prediction = &pred;
+  in.predictedBoundaries = &curves;
+  return evaluate(in);
+}
+
+TEST(Segmentation, TshirtTrousersMatchesTheTruth_Slow) {
+  const Case& c = synthCase("tshirt_trousers", 12000);
+  const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
+                                       c.body.features);
+  EXPECT_EQ(seg.layout, GarmentLayout::UpperLower);
+  EXPECT_EQ(seg.occlusion, Occlusion::LowerOccluded);  // the t-shirt hangs over the trousers
+  ASSERT_EQ(seg.boundaries.size(), 3u);
+  for (const BoundaryReport& b : seg.boundaries) EXPECT_TRUE(b.converged) << b.name;
+  const Evaluation e = score(c, seg);
+  EXPECT_GE(e.meanGarmentIoU, 0.97);
+  for (const BoundaryScore& b : e.boundaries) {
+    EXPECT_FALSE(b.missing) << toString(b.a) << "|" << toString(b.b);
+    if (b.missing) continue;
+    EXPECT_LT(b.pooled.mean, 0.005) << toString(b.a) << "|" << toString(b.b);
+    EXPECT_LT(b.roughness, 1.05) << toString(b.a) << "|" << toString(b.b);
+  }
+  // The garments are the scan cut exactly: their areas add up to the labelled areas, and the
+  // hidden band of the trousers was added on top (§5.3).
+  double upper = 0, lower = 0;
+  for (const GarmentPiece& g : seg.garments) (g.name == "upper" ? upper : lower) += surfaceArea(g.mesh);
+  const LabelScore* u = e.label(Label::Upper);
+  ASSERT_NE(u, nullptr);
+  EXPECT_NEAR(upper, u->predArea, 1e-6);
+  EXPECT_GT(lower, e.label(Label::Lower)->predArea + 0.05);
+}
+
+TEST(Segmentation, DressIsOnePieceWithItsHemFound_Slow) {
+  const Case& c = synthCase("dress", 12000);
+  const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
+                                       c.body.features);
+  EXPECT_EQ(seg.layout, GarmentLayout::OnePiece);
+  ASSERT_EQ(seg.garments.size(), 1u);
+  EXPECT_EQ(seg.garments[0].name, "onepiece");
+  // The two ankle loops became one hem loop (§5.1.5's topology change).
+  const BoundaryReport& ls = seg.boundaries.at(1);
+  EXPECT_EQ(ls.name, "L|S");
+  EXPECT_EQ(ls.initialCurves.size(), 2u);
+  EXPECT_EQ(ls.finalCurves.size(), 1u);
+  EXPECT_GE(score(c, seg).meanGarmentIoU, 0.97);
+}
+
+TEST(Segmentation, BadInputIsRefusedWithClearErrors) {
+  const Case& c = synthCase("tshirt_trousers", 6000);
+  const TriMesh& scan = c.scan.scan.mesh;
+  const Eigen::MatrixX3d& colour = c.scan.scan.colour;
+  // No colour.
+  EXPECT_THROW(segmentScan(scan, Eigen::MatrixX3d(0, 3), c.body.posed.mesh, c.body.features),
+               InputError);
+  // A body 10 m away from the scan.
+  TriMesh far = c.body.posed.mesh;
+  far.V.col(0).array() += 10.0;
+  EXPECT_THROW(segmentScan(scan, colour, far, c.body.features), InputError);
+  // Every anchor of the neck spline removed: the error names the spline.
+  FeatureSet noNeck = c.body.features;
+  noNeck.upperSkin.splines[0].anchors.clear();
+  try {
+    segmentScan(scan, colour, c.body.posed.mesh, noNeck);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("neck"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace s2p
