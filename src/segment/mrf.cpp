@@ -3,8 +3,8 @@
 #include <maxflow-3.0/maxflow/graph.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <nanoflann.hpp>
@@ -33,9 +33,8 @@ struct PointCloud {
     return false;
   }
 };
-using KdTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
-                                        PointCloud, 3, std::uint32_t>;
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
+                                                   PointCloud, 3, std::uint32_t>;
 
 // Squared Euclidean distance from every vertex to the nearest of `points` (#V).
 Eigen::VectorXd nearestSquaredDistance(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& points) {
@@ -290,8 +289,8 @@ PottsResult minimisePotts(const Eigen::MatrixXd& unary, const Eigen::MatrixX2i& 
 
 Eigen::VectorXi faceLabelsFromVertices(const TriMesh& mesh, const Eigen::VectorXi& vertexLabel) {
   if (vertexLabel.size() != mesh.numVertices())
-    throw InputError("face labels: " + std::to_string(vertexLabel.size()) +
-                     " vertex labels for " + std::to_string(mesh.numVertices()) + " vertices");
+    throw InputError("face labels: " + std::to_string(vertexLabel.size()) + " vertex labels for " +
+                     std::to_string(mesh.numVertices()) + " vertices");
   Eigen::VectorXi out(mesh.numFaces());
   for (int f = 0; f < mesh.numFaces(); ++f) {
     int c[3];

@@ -18,9 +18,9 @@
 
 namespace s2p {
 
-struct MrfRegion {                   // one label
-  int label = 0;                     // the caller's label code (e.g. synth Label values)
-  std::vector<SurfacePoint> points;  // projected region points of that label on the mesh
+struct MrfRegion {                     // one label
+  int label = 0;                       // the caller's label code (e.g. synth Label values)
+  std::vector<SurfacePoint> points{};  // projected region points of that label on the mesh
 };
 
 struct MrfOptions {
@@ -43,16 +43,16 @@ struct MrfOptions {
   // specular highlight, a print) costs at most −log(ε/#labels) and can be outvoted by its
   // neighbours. 0 gives the plain −log posterior (clamped at 1e-300).
   double posteriorFloor = 0.05;
-  int maxSweeps = 5;          // alpha-expansion sweeps over all labels (0: data + prior argmin)
-  ColourModelOptions colour;  // smoothing + GMM, the same as the boundary optimiser's
+  int maxSweeps = 5;            // alpha-expansion sweeps over all labels (0: data + prior argmin)
+  ColourModelOptions colour{};  // smoothing + GMM, the same as the boundary optimiser's
 };
 
 struct MrfResult {
-  Eigen::VectorXi vertexLabel;           // #V, caller's label codes
-  std::vector<GaussianMixture> models;   // one per region, fitted on its points' colours
-  double energy = 0;                     // E(f) of vertexLabel
-  int sweeps = 0;                        // alpha-expansion sweeps run
-  std::vector<double> sweepEnergies;     // E before the first sweep, then after each sweep
+  Eigen::VectorXi vertexLabel;          // #V, caller's label codes
+  std::vector<GaussianMixture> models;  // one per region, fitted on its points' colours
+  double energy = 0;                    // E(f) of vertexLabel
+  int sweeps = 0;                       // alpha-expansion sweeps run
+  std::vector<double> sweepEnergies;    // E before the first sweep, then after each sweep
 };
 
 // srgb: #V×3 in [0, 1]. Throws InputError for an invalid mesh, colours of the wrong size or

@@ -21,11 +21,13 @@ TriMesh centredCylinder() {
 }
 constexpr double kRing = 1.0 / 41;
 
-// Region points at the vertices with y in [lo, hi].
-std::vector<SurfacePoint> pointsBetween(const TriMesh& m, double lo, double hi) {
+// Region points at the vertices with y in [lo, hi], leaving out those marked in `skip`.
+std::vector<SurfacePoint> pointsBetween(const TriMesh& m, double lo, double hi,
+                                        const std::vector<bool>& skip = {}) {
   std::vector<SurfacePoint> p;
   for (int v = 0; v < m.numVertices(); ++v)
-    if (m.V(v, 1) >= lo && m.V(v, 1) <= hi) p.push_back(SurfacePoint::atVertex(m.F, v));
+    if (m.V(v, 1) >= lo && m.V(v, 1) <= hi && (skip.empty() || !skip[v]))
+      p.push_back(SurfacePoint::atVertex(m.F, v));
   return p;
 }
 
@@ -176,8 +178,11 @@ TEST(Mrf, SmoothnessRelabelsSaltAndPepperNoise) {
   Eigen::VectorXi band = truth;
   const std::vector<bool> flipped = saltAndPepper(band, 2, 0.05, 5);
   const Eigen::MatrixX3d rgb = paint(band, {kBlue, kRed}, 2);
-  const std::vector<MrfRegion> regions = {{.label = 0, .points = pointsBetween(cyl, -0.5, -0.2)},
-                                          {.label = 1, .points = pointsBetween(cyl, 0.2, 0.5)}};
+  // Region points on clean vertices: a region's colour model describes its garment, the noise
+  // is what the labelling has to cope with.
+  const std::vector<MrfRegion> regions = {
+      {.label = 0, .points = pointsBetween(cyl, -0.5, -0.2, flipped)},
+      {.label = 1, .points = pointsBetween(cyl, 0.2, 0.5, flipped)}};
   // Colour and smoothness only: no prior, no contrast sensitivity (which would make the noise's
   // colour edges cheap to cut on purpose).
   MrfOptions o{.contrast = 0, .priorWeight = 0};
@@ -206,21 +211,26 @@ TEST(Mrf, ThreeBandsAreAllFoundAndEnergyNeverIncreases) {
     truth[v] = y < -1.0 / 6 ? 0 : (y < 1.0 / 6 ? 1 : 2);
   }
   Eigen::VectorXi band = truth;
-  saltAndPepper(band, 3, 0.05, 9);
+  const std::vector<bool> flipped = saltAndPepper(band, 3, 0.05, 9);
   const Eigen::MatrixX3d rgb = paint(band, {kBlue, kGreen, kRed}, 3);
   const std::vector<MrfRegion> regions = {
-      {.label = 10, .points = pointsBetween(cyl, -0.5, -0.3)},
-      {.label = 20, .points = pointsBetween(cyl, -0.08, 0.08)},
-      {.label = 30, .points = pointsBetween(cyl, 0.3, 0.5)}};
+      {.label = 10, .points = pointsBetween(cyl, -0.5, -0.3, flipped)},
+      {.label = 20, .points = pointsBetween(cyl, -0.08, 0.08, flipped)},
+      {.label = 30, .points = pointsBetween(cyl, 0.3, 0.5, flipped)}};
   const MrfResult r = mrfSegmentation(cyl, rgb, regions, {.contrast = 0, .priorWeight = 0});
   const int codes[3] = {10, 20, 30};
   int correct = 0;
   std::vector<int> count(3, 0);
   for (int v = 0; v < cyl.numVertices(); ++v) {
     correct += r.vertexLabel[v] == codes[truth[v]];
+    if (!flipped[v]) {
+      EXPECT_EQ(r.vertexLabel[v], codes[truth[v]]) << "clean vertex " << v;
+    }
     for (int l = 0; l < 3; ++l) count[l] += r.vertexLabel[v] == codes[l];
   }
-  EXPECT_GE(correct, 0.99 * cyl.numVertices());
+  // Isolated specks are relabelled; a few adjacent pairs of flipped vertices next to a band
+  // edge are cheaper to keep (λ = 1), so ≥ 98 % rather than the 99 % of the two-colour case.
+  EXPECT_GE(correct, 0.98 * cyl.numVertices());
   for (int l = 0; l < 3; ++l) EXPECT_GT(count[l], cyl.numVertices() / 4) << "label " << codes[l];
   ASSERT_GE(r.sweeps, 1);
   ASSERT_EQ(r.sweepEnergies.size(), static_cast<size_t>(r.sweeps) + 1);
@@ -238,7 +248,9 @@ TEST(Mrf, SameColourRegionsFollowThePrior) {
   const MrfResult r = mrfSegmentation(cyl, rgb, regions);
   for (int v = 0; v < cyl.numVertices(); ++v) {
     const double y = cyl.V(v, 1);
-    if (std::abs(y) > 1.5 * kRing) EXPECT_EQ(r.vertexLabel[v], y > 0 ? 1 : 2) << "y " << y;
+    if (std::abs(y) > 1.5 * kRing) {
+      EXPECT_EQ(r.vertexLabel[v], y > 0 ? 1 : 2) << "y " << y;
+    }
   }
   // Without the prior the same colour gives no reason to split at y = 0.
   const MrfResult noPrior = mrfSegmentation(cyl, rgb, regions, {.priorWeight = 0});
