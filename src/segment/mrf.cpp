@@ -90,6 +90,8 @@ void validate(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
     throw InputError("MRF segmentation: smoothness must be finite and ≥ 0");
   if (!(finite(o.contrast) && o.contrast >= 0))
     throw InputError("MRF segmentation: contrast σ must be finite and ≥ 0 (0: off)");
+  if (!(finite(o.spacing) && o.spacing > 0))
+    throw InputError("MRF segmentation: spacing must be a positive number of metres");
   if (!(finite(o.priorLength) && o.priorLength > 0))
     throw InputError("MRF segmentation: priorLength must be a positive number of metres");
   if (!(finite(o.priorWeight) && o.priorWeight >= 0))
@@ -200,29 +202,26 @@ MrfResult mrfSegmentation(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
     }
   }
 
-  // a_u = area / mean area; a vertex without area (unreferenced) keeps weight 1 so that its
+  // Vertex weights A_u / s²; a vertex without area (unreferenced) keeps weight 1 so that its
   // label is still its own data + prior minimum.
+  const double s2 = options.spacing * options.spacing;
   Eigen::VectorXd a = vertexAreas(mesh, MassType::Barycentric);
-  const double meanArea = a.sum() / nv;
-  for (int v = 0; v < nv; ++v) a[v] = meanArea > 0 && a[v] > 0 ? a[v] / meanArea : 1.0;
+  for (int v = 0; v < nv; ++v) a[v] = a[v] > 0 ? a[v] / s2 : 1.0;
   const Eigen::MatrixXd unary = a.asDiagonal() * cost;
 
+  // Edge weights λ (|uv| / s) c_uv.
   const MeshTopology topology(mesh.F, nv);
   const Eigen::MatrixX2i& edges = topology.edges();
   const Eigen::Index ne = edges.rows();
-  Eigen::VectorXd length(ne);
-  for (Eigen::Index k = 0; k < ne; ++k)
-    length[k] = (mesh.V.row(edges(k, 0)) - mesh.V.row(edges(k, 1))).norm();
-  const double meanLength = ne > 0 ? length.mean() : 0.0;
   Eigen::VectorXd weight(ne);
   for (Eigen::Index k = 0; k < ne; ++k) {
-    const double rel = meanLength > 0 ? length[k] / meanLength : 1.0;
+    const int u = edges(k, 0), v = edges(k, 1);
     double c = 1.0;
     if (options.contrast > 0) {
-      const double dE2 = (colour.lab.row(edges(k, 0)) - colour.lab.row(edges(k, 1))).squaredNorm();
+      const double dE2 = (colour.lab.row(u) - colour.lab.row(v)).squaredNorm();
       c = std::exp(-dE2 / (2 * options.contrast * options.contrast));
     }
-    weight[k] = options.smoothness * rel * c;
+    weight[k] = options.smoothness * (mesh.V.row(u) - mesh.V.row(v)).norm() / options.spacing * c;
   }
 
   const PottsResult potts =

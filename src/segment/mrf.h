@@ -1,12 +1,14 @@
 // Per-vertex Markov random field segmentation: the baseline the paper compares its boundary
 // optimisation with (§7, Fig. 14; the ClothCap procedure of Pons-Moll et al. 2017). Every
 // vertex gets one of the regions' labels by minimising
-//   E(f) = Σ_u a_u [D_u(f_u) + P_u(f_u)] + Σ_{uv ∈ edges} w_uv [f_u ≠ f_v]
+//   E(f) = Σ_u (A_u / s²) [D_u(f_u) + P_u(f_u)] + Σ_{uv ∈ edges} λ (|uv| / s) c_uv [f_u ≠ f_v]
 // with the boundary optimiser's colour model (§5.1.4, Eq. 2) as data term D, the projected
-// labelled regions as prior P and a contrast-sensitive Potts smoothness term
-// w_uv = λ · (|uv| / mean edge length) · exp(−ΔE_uv²/(2σ²)); a_u is the vertex's area over the
-// mean vertex area (1 on a uniform mesh). Minimised by alpha-expansion (Boykov, Veksler and
-// Zabih 2001), each expansion move an exact min cut (libmaxflow).
+// labelled regions as prior P and a contrast-sensitive Potts smoothness term,
+// c_uv = exp(−ΔE_uv²/(2σ²)). A_u is the vertex's (barycentric) area and s a fixed reference
+// spacing in metres, so E approximates (1/s²)(∫ D + P dA + λ s · κ · boundary length) (κ a
+// constant of the mesh's edge directions): the same λ means the same thing at every
+// resolution, and at spacing s every vertex weighs about 1. Minimised by alpha-expansion
+// (Boykov, Veksler and Zabih 2001), each expansion move an exact min cut (libmaxflow).
 #pragma once
 
 #include <Eigen/Core>
@@ -24,20 +26,27 @@ struct MrfRegion {                     // one label
 };
 
 struct MrfOptions {
-  // Potts weight λ per edge, in units of the per-vertex data term: an edge of mean length
-  // between two equally coloured vertices costs λ when cut. With the data term bounded by
-  // −log(posteriorFloor / #labels) (≈ 3.7 for two labels), λ = 1 removes single-vertex specks
-  // of any colour and keeps confidently coloured patches a few edges wide.
+  // Potts weight λ: cutting an edge of length s between equally coloured vertices costs λ,
+  // as much as the data term of λ vertices at spacing s. With the data term bounded by
+  // −log(posteriorFloor / #labels) (≈ 3.7 for two labels, 4.4 for four), λ = 1 removes specks
+  // of about one vertex at spacing s (≈ 1 cm²) whatever their colour, and keeps confidently
+  // coloured patches a few centimetres wide: the baseline stays a per-vertex labelling.
   double smoothness = 1.0;
+  // Metres, the reference spacing s: 1 cm, the vertex spacing of a 1.75 m person scanned with
+  // ≈ 50k vertices.
+  double spacing = 0.01;
   // σ of the contrast factor exp(−ΔE²/(2σ²)), ΔE the CIE76 difference of the smoothed colours
   // of an edge's two ends. 10 keeps in-fabric variation (ΔE ≲ 5: factor ≥ 0.88) and makes
   // garment edges (ΔE ≳ 25: factor ≤ 0.04) cheap to cut. 0 turns contrast sensitivity off.
   double contrast = 10.0;
   // Metres: the prior cost of label l at vertex u is priorWeight · (d/priorLength)², d the
-  // Euclidean distance from u to l's nearest region point (k-d tree). 0.1 m is about the
-  // margin by which a garment boundary may sit away from its projected region points on a
-  // 1.75 m body; beyond 2–3 × that colour alone can no longer hold a label.
-  double priorLength = 0.1;
+  // Euclidean distance from u to l's nearest region point (k-d tree). 0.3 m is about how far a
+  // garment may extend beyond its projected region points on a 1.75 m body (a trouser leg or
+  // sleeve past its last region point): within it two labels' priors differ by less than
+  // priorWeight, well inside the colour term's range, so colour decides at a boundary; at
+  // ≳ 3 × priorLength (≥ 9 × priorWeight) the prior overrules colour matches on distant body
+  // parts (a red shoe far from a red shirt's points).
+  double priorLength = 0.3;
   double priorWeight = 1.0;  // in data-term units (nats)
   // Robust data term: −log(ε/#labels + (1−ε) P(l | c)), so one badly coloured vertex (a
   // specular highlight, a print) costs at most −log(ε/#labels) and can be outvoted by its

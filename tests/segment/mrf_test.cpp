@@ -12,14 +12,15 @@
 namespace s2p {
 namespace {
 
-// Open cylinder around the y axis, radius 0.1 m, y in [−0.5, 0.5]: 41 rings of 32 vertices
-// (ring spacing 1/41 m ≈ 2.4 cm, no ring at y = 0, so every vertex has a side).
+// Open cylinder around the y axis, radius 0.1 m, y in [−0.5, 0.5]: 82 rings of 64 vertices
+// (ring spacing 1/81 m ≈ 1.2 cm, 1 cm around: about a 50k-vertex person's spacing; no ring at
+// y = 0, so every vertex has a side).
 TriMesh centredCylinder() {
-  TriMesh m = makeCylinder(41, 32, 0.1, 1.0);
+  TriMesh m = makeCylinder(81, 64, 0.1, 1.0);
   m.V.col(1).array() -= 0.5;
   return m;
 }
-constexpr double kRing = 1.0 / 41;
+constexpr double kRing = 1.0 / 81;
 
 // Region points at the vertices with y in [lo, hi], leaving out those marked in `skip`.
 std::vector<SurfacePoint> pointsBetween(const TriMesh& m, double lo, double hi,
@@ -277,6 +278,45 @@ TEST(Mrf, BadInputThrowsInputError) {
   EXPECT_THROW(mrfSegmentation(cyl, rgb, good, {.priorLength = 0}), InputError);
   EXPECT_THROW(mrfSegmentation(cyl, rgb, good, {.smoothness = -1}), InputError);
   EXPECT_THROW(mrfSegmentation(TriMesh{}, Eigen::MatrixX3d(0, 3), good), InputError);
+}
+
+TEST(Mrf, ResolutionDoesNotChangeWhichStripesSurvive) {
+  // Colour A above y = 0.1 m with two stripes of colour B: 0.5 cm and 3 cm wide. A stripe is
+  // worth keeping when its data gain (∝ width / s²) beats its two boundaries (∝ λ / s): the
+  // narrow one goes, the wide one stays, at 0.5 cm and at 0.25 cm vertex spacing alike (with
+  // weights relative to the mean edge length instead, the narrow stripe would survive at the
+  // finer spacing). Colour, prior and contrast are kept out to isolate that balance.
+  for (const double h : {0.005, 0.0025}) {
+    const TriMesh cyl = makeCylinder(static_cast<int>(std::lround(0.4 / h)),
+                                     static_cast<int>(std::lround(2 * M_PI * 0.04 / h)), 0.04, 0.4);
+    Eigen::VectorXi band(cyl.numVertices());
+    std::vector<bool> narrow(cyl.numVertices()), wide(cyl.numVertices());
+    for (int v = 0; v < cyl.numVertices(); ++v) {
+      const double y = cyl.V(v, 1);
+      narrow[v] = y > 0.149 && y < 0.1535;
+      wide[v] = y > 0.199 && y < 0.2285;
+      band[v] = y < 0.1 || narrow[v] || wide[v] ? 1 : 0;
+    }
+    const Eigen::MatrixX3d rgb = paint(band, {kRed, kBlue}, 6);
+    const std::vector<MrfRegion> regions = {{.label = 0, .points = pointsBetween(cyl, 0.3, 0.4)},
+                                            {.label = 1, .points = pointsBetween(cyl, 0, 0.08)}};
+    MrfOptions o{.contrast = 0, .priorWeight = 0};
+    o.colour.smoothingLength = 0;
+    const MrfResult r = mrfSegmentation(cyl, rgb, regions, o);
+    int narrowCount = 0, wideCount = 0;
+    for (int v = 0; v < cyl.numVertices(); ++v) {
+      if (narrow[v]) {
+        ++narrowCount;
+        EXPECT_EQ(r.vertexLabel[v], 0) << "narrow stripe, spacing " << h << ", y " << cyl.V(v, 1);
+      }
+      if (wide[v]) {
+        ++wideCount;
+        EXPECT_EQ(r.vertexLabel[v], 1) << "wide stripe, spacing " << h << ", y " << cyl.V(v, 1);
+      }
+    }
+    EXPECT_EQ(narrowCount, std::lround(0.005 / h) * std::lround(2 * M_PI * 0.04 / h));
+    EXPECT_EQ(wideCount, std::lround(0.03 / h) * std::lround(2 * M_PI * 0.04 / h));
+  }
 }
 
 // === Face labels
