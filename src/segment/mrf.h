@@ -27,7 +27,7 @@ struct MrfRegion {                     // one label
 
 struct MrfOptions {
   // Potts weight λ: cutting an edge of length s between equally coloured vertices costs λ,
-  // as much as the data term of λ vertices at spacing s. With the data term bounded by
+  // as much as λ nats of data term on a vertex of area s². With the data term bounded by
   // −log(posteriorFloor / #labels) (≈ 3.7 for two labels, 4.4 for four), λ = 1 removes specks
   // of about one vertex at spacing s (≈ 1 cm²) whatever their colour, and keeps confidently
   // coloured patches a few centimetres wide: the baseline stays a per-vertex labelling.
