@@ -100,9 +100,10 @@ int runSegment(const SegmentCommand& cmd, Progress& progress) {
   writeSegmentation(cmd.out, loaded.scan, body.body, result);
   progress.end();
   printSegmentation(result.segmentation);
-  fmt::print("wrote {}/: segmentation.ply, {}boundaries.json, garments.json, "
-             "segment_boundaries.png, segment_labels.png\n",
-             cmd.out, garmentFileList(result.segmentation));
+  fmt::print("wrote {}/: segmentation.ply, {}{}, garments.json, segment_boundaries.png, "
+             "segment_labels.png\n",
+             cmd.out, garmentFileList(result.segmentation),
+             result.segmenter == "mrf" ? "segment_report.json" : "boundaries.json");
   return 0;
 }
 

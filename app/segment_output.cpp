@@ -140,7 +140,11 @@ void writeSegmentation(const fs::path& dir, const Scan& scan, const TriMesh& bod
             {{"scan", scan.sourcePath},
              {"note", "face_origin[i]: the scan face (segmentation.ply) face i lies in"},
              {"garments", garmentMaps}});
-  writeJson(dir / "boundaries.json", segmentationToJson(out, scan.toInputFrame));
+  // An MRF labelling has no curves: eval then scores its label edges, so no boundaries.json.
+  const bool curves = out.segmenter != "mrf";
+  fs::remove(dir / (curves ? "segment_report.json" : "boundaries.json"));
+  writeJson(dir / (curves ? "boundaries.json" : "segment_report.json"),
+            segmentationToJson(out, scan.toInputFrame));
 
   // Previews (normalised frame): the scan with initial (blue) and final (red) boundaries, and
   // the labels.
@@ -190,9 +194,9 @@ std::string garmentFileList(const Segmentation& s) {
   return out;
 }
 
-SegmentOutput segmentWithMrf(const Scan&, const TriMesh&, const FeatureSet&,
-                             const SegmentationOptions&, Progress&) {
-  throw InputError("--segmenter mrf is not built yet");
+SegmentOutput segmentWithMrf(const Scan& scan, const TriMesh& body, const FeatureSet& features,
+                             const SegmentationOptions& options, Progress& progress) {
+  return {segmentScanMrf(scan.mesh, scan.colour, body, features, options, {}, &progress), "mrf"};
 }
 
 }  // namespace s2p::app

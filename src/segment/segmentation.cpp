@@ -292,6 +292,45 @@ struct BoundaryJob {
   Label garment = Label::Upper, other = Label::Skin;
 };
 
+// The labelled region points projected to the scan, by RegionLabel (skin, upper, lower, foot);
+// the ill-projected ones dropped (counted). Fewer than 4 skin, upper or lower points left →
+// InputError: the colour model cannot be fitted.
+std::vector<std::vector<SurfacePoint>> projectRegionPoints(const FeatureProjector& projector,
+                                                           const FeatureSet& features, int& total,
+                                                           int& dropped) {
+  std::vector<std::vector<SurfacePoint>> regions(4);
+  for (const RegionPoint& r : features.regions) {
+    const ProjectedPoint q = projector.project(r.point);
+    ++total;
+    if (!q.ok()) {
+      ++dropped;
+      continue;
+    }
+    regions[static_cast<int>(r.label)].push_back(q.point);
+  }
+  for (RegionLabel l : {RegionLabel::Skin, RegionLabel::Upper, RegionLabel::Lower})
+    if (regions[static_cast<int>(l)].size() < 4)
+      throw InputError(fmt::format(
+          "segmentation: only {} '{}' region points survived the projection to the scan; the "
+          "colour model needs at least 4 (check the body fit)",
+          regions[static_cast<int>(l)].size(), toString(l)));
+  return regions;
+}
+
+double bodyHeight(const TriMesh& body) {
+  const BoundingBox bb = boundingBox(body.V);
+  return (bb.max - bb.min).maxCoeff();
+}
+
+void checkColour(const TriMesh& scan, const Eigen::MatrixX3d& colour) {
+  if (colour.rows() != scan.numVertices() || colour.cols() != 3 || !colour.allFinite())
+    throw InputError(
+        "segmentation: the scan has no usable colour (" + std::to_string(colour.rows()) +
+        " colours for " + std::to_string(scan.numVertices()) +
+        " vertices); garment boundaries are found from colour, so give a scan with vertex "
+        "colours or a texture");
+}
+
 struct BoundaryRun {
   BoundaryResult result;
   BoundaryReport report;
@@ -304,14 +343,8 @@ class Segmenter {
       : scan_(scan), options_(options), progress_(progress) {
     validateMesh(scan, "scan");
     validateMesh(body, "body");
-    if (colour.rows() != scan.numVertices() || colour.cols() != 3 || !colour.allFinite())
-      throw InputError(
-          "segmentation: the scan has no usable colour (" + std::to_string(colour.rows()) +
-          " colours for " + std::to_string(scan.numVertices()) +
-          " vertices); garment boundaries are found from colour, so give a scan with vertex "
-          "colours or a texture");
-    const BoundingBox bb = boundingBox(body.V);
-    height_ = (bb.max - bb.min).maxCoeff();
+    checkColour(scan, colour);
+    height_ = bodyHeight(body);
     tolerance_ = 1e-7 * std::max(height_, 1.0);
     ProjectionOptions popt = options.projection;
     popt.bodyLength = height_;
@@ -396,23 +429,8 @@ class Segmenter {
 
   void projectRegions(const FeatureProjector& projector, const FeatureSet& features,
                       const Eigen::MatrixX3d& colour) {
-    std::vector<std::vector<SurfacePoint>> regions(4);
-    for (const RegionPoint& r : features.regions) {
-      const ProjectedPoint q = projector.project(r.point);
-      ++regionPoints_;
-      if (!q.ok()) {
-        ++droppedRegionPoints_;
-        continue;
-      }
-      regions[static_cast<int>(r.label)].push_back(q.point);
-    }
-    static const char* names[] = {"skin", "upper", "lower", "foot"};
-    for (int r = 0; r < 3; ++r)
-      if (regions[r].size() < 4)
-        throw InputError(fmt::format(
-            "segmentation: only {} '{}' region points survived the projection to the scan; the "
-            "colour model needs at least 4 (check the body fit)",
-            regions[r].size(), names[r]));
+    std::vector<std::vector<SurfacePoint>> regions =
+        projectRegionPoints(projector, features, regionPoints_, droppedRegionPoints_);
     hasFootRegion_ = regions[kFoot].size() >= 4;
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
@@ -737,6 +755,40 @@ Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, co
   Segmenter s(scan, colour, body, features, options, p);
   s.setBody(body);
   return s.run();
+}
+
+Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
+                            const TriMesh& body, const FeatureSet& features,
+                            const SegmentationOptions& options, const MrfOptions& mrf,
+                            Progress* progress) {
+  Progress& p = progress ? *progress : Progress::silent();
+  const auto t0 = Clock::now();
+  validateMesh(scan, "scan");
+  validateMesh(body, "body");
+  checkColour(scan, colour);
+  Segmentation out;
+  p.begin("project features");
+  ProjectionOptions popt = options.projection;
+  popt.bodyLength = bodyHeight(body);
+  const FeatureProjector projector(body, scan, popt);
+  const std::vector<std::vector<SurfacePoint>> regions =
+      projectRegionPoints(projector, features, out.regionPoints, out.droppedRegionPoints);
+  p.end();
+  p.begin("MRF labelling (graph cut)");
+  std::vector<MrfRegion> mrfRegions = {{static_cast<int>(Label::Skin), regions[0]},
+                                       {static_cast<int>(Label::Upper), regions[1]},
+                                       {static_cast<int>(Label::Lower), regions[2]}};
+  if (regions[3].size() >= 4) mrfRegions.push_back({static_cast<int>(Label::Shoes), regions[3]});
+  MrfOptions mo = mrf;
+  mo.colour = options.colour;
+  const MrfResult r = mrfSegmentation(scan, colour, mrfRegions, mo);
+  p.end();
+  out.vertexLabel = r.vertexLabel;
+  out.faceLabel = faceLabelsFromVertices(scan, r.vertexLabel);
+  out.notes.push_back(fmt::format("MRF baseline: {} alpha-expansion sweeps, energy {:.1f}",
+                                  r.sweeps, r.energy));
+  out.seconds = secondsSince(t0);
+  return out;
 }
 
 }  // namespace s2p

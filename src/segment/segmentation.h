@@ -20,6 +20,7 @@
 #include "core/tri_mesh.h"
 #include "segment/boundary_optimizer.h"
 #include "segment/colour_model.h"
+#include "segment/mrf.h"
 #include "segment/projection.h"
 
 namespace s2p {
@@ -108,5 +109,14 @@ struct Segmentation {
 Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
                          const FeatureSet& features, const SegmentationOptions& options = {},
                          Progress* progress = nullptr);
+
+// The paper's Fig. 14 baseline: every scan vertex labelled by a multi-label graph cut
+// (segment/mrf.h) with the same colour model as data term and the projected labelled regions as
+// prior. Only vertexLabel, faceLabel, the region counts and a note are filled: an MRF labelling
+// has no boundary curves and no exact cut. Throws as segmentScan.
+Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
+                            const TriMesh& body, const FeatureSet& features,
+                            const SegmentationOptions& options = {}, const MrfOptions& mrf = {},
+                            Progress* progress = nullptr);
 
 }  // namespace s2p
