@@ -4,6 +4,8 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/segment_output.h"
+#include "eval/evaluation_files.h"
 #include "synth/presets.h"
 #include "synth/synthesize.h"
 
@@ -13,9 +15,9 @@ using nlohmann::json;
 namespace s2p::app {
 namespace {
 
-// === demo: the main job on a synthetic clothed scan of the built-in mannequin (until the
-// pipeline exists: generated with its ground truth, written, read back, cleaned, normalised and
-// summarised; later issues run the pipeline on it).
+// === demo: the main job on a synthetic clothed scan of the built-in mannequin, as far as the
+// pipeline goes: generated with its ground truth, written, read back, cleaned, normalised,
+// summarised, segmented with its true body (the body fit comes next) and scored.
 
 constexpr const char* kDemoPreset = "tshirt_trousers";
 
@@ -30,11 +32,25 @@ int runDemo(const fs::path& outDir, Progress& progress) {
   const json info = infoJson(loaded);
   printInfo(info);
   writeJson(outDir / "info.json", info);
+
+  const PosedFeatures body = poseBodyForScan(synth.truth.body, loaded.scan, progress);
+  const SegmentOutput seg{segmentScan(loaded.scan.mesh, loaded.scan.colour, body.body,
+                                      body.features, {}, &progress),
+                          "curve"};
+  progress.begin("write segmentation");
+  writeSegmentation(outDir / "segment", loaded.scan, body.body, seg);
+  progress.end();
+  printSegmentation(seg.segmentation);
+  const Evaluation e = evaluate(loadEvaluation(resolveEvaluationFiles(outDir / "truth.json",
+                                                                      outDir / "segment"))
+                                    .input());
+  fmt::print("\n{}", formatEvaluation(e));
   fmt::print(
       "\nwrote {}/: scan.ply (synthetic clothed scan, preset {}, colours and labels), truth.json "
       "(garments, true boundaries, body), preview_scan.png and preview_labels.png (front, back), "
-      "info.json\n",
-      outDir.string(), kDemoPreset);
+      "info.json;\n{}/segment/: segmentation.ply, upper.obj, lower.obj, boundaries.json, "
+      "garments.json, segment_boundaries.png, segment_labels.png\n",
+      outDir.string(), kDemoPreset, outDir.string());
   return 0;
 }
 

@@ -41,24 +41,6 @@ json readJsonFile(const fs::path& path, const std::string& what) {
   }
 }
 
-// The posed body of a body JSON (bodyToJson: "source", shape, pose), moved into the normalised
-// frame of `scan` (the JSON is in the scan file's frame), with its feature set.
-struct PosedFeatures {
-  TriMesh body;
-  FeatureSet features;
-};
-
-PosedFeatures poseFromJson(const json& bodyJson, const Scan& scan, Progress& progress) {
-  progress.begin("pose body");
-  BodyFromJson b = bodyFromJson(bodyJson);
-  PosedFeatures out{std::move(b.posed.mesh), std::move(b.features)};
-  const Eigen::Affine3d toScan = scan.toInputFrame.inverse();
-  out.body.V = ((toScan.linear() * out.body.V.transpose()).colwise() + toScan.translation())
-                   .transpose();
-  progress.end();
-  return out;
-}
-
 json truthBody(const fs::path& truth) {
   const json t = readJsonFile(truth, "truth file");
   if (!t.contains("body") || !t["body"].is_object())
@@ -92,7 +74,7 @@ int runSegment(const SegmentCommand& cmd, Progress& progress) {
   checkSegmenter(cmd.segmenter);
   const json bodyJson = cmd.truth.empty() ? readJsonFile(cmd.body, "body file") : truthBody(cmd.truth);
   const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
-  const PosedFeatures body = poseFromJson(bodyJson, loaded.scan, progress);
+  const PosedFeatures body = poseBodyForScan(bodyJson, loaded.scan, progress);
   const SegmentOutput result = runSegmenter(cmd.segmenter, loaded.scan, body,
                                             segmentationOptions(cmd.fast, cmd.noGapFilling),
                                             progress);
@@ -145,7 +127,7 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
     json row = {{"preset", name}};
     try {
       const LoadedScan loaded = loadScan(scanPath, {}, progress);
-      const PosedFeatures body = poseFromJson(truth.body, loaded.scan, progress);
+      const PosedFeatures body = poseBodyForScan(truth.body, loaded.scan, progress);
       const SegmentOutput result =
           runSegmenter(cmd.segmenter, loaded.scan, body, options, progress);
       writeSegmentation(outDir, loaded.scan, body.body, result);

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "app/commands.h"
+#include "body/body_json.h"
 #include "core/error.h"
 #include "export/png.h"
 #include "export/preview.h"
@@ -42,6 +43,15 @@ double polylineLength(const Eigen::MatrixX3d& P, bool closed) {
 
 }  // namespace
 
+PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& progress) {
+  progress.begin("pose body");
+  BodyFromJson b = bodyFromJson(bodyJson);
+  PosedFeatures out{std::move(b.posed.mesh), std::move(b.features)};
+  out.body.V = toFrame(scan.toInputFrame.inverse(), out.body.V);
+  progress.end();
+  return out;
+}
+
 json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput) {
   const Segmentation& s = out.segmentation;
   // One entry per label pair (eval's format), holding the curves of every run with that pair.
@@ -73,6 +83,7 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                     {"gap_pass", b.gapPass},
                     {"gap_applied", b.gapApplied},
                     {"gap_shift_m", b.gapShift},
+                    {"islands_removed", b.islandsRemoved},
                     {"timings", {{"setup", b.timings.setup},
                                  {"regularisation", b.timings.regularisation},
                                  {"isoline", b.timings.isoline},

@@ -11,6 +11,15 @@
 
 namespace s2p::app {
 
+// The posed body of a body JSON (bodyToJson: "source", shape, pose), moved into the normalised
+// frame of `scan` (the JSON is in the scan file's frame), with its feature set.
+struct PosedFeatures {
+  TriMesh body;
+  FeatureSet features;
+};
+PosedFeatures poseBodyForScan(const nlohmann::json& bodyJson, const Scan& scan,
+                              Progress& progress);
+
 struct SegmentOutput {
   Segmentation segmentation;
   std::string segmenter;  // "curve" or "mrf"

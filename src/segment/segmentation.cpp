@@ -9,6 +9,7 @@
 
 #include "core/colour.h"
 #include "core/error.h"
+#include "core/laplacian.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 #include "segment/garment_completion.h"
@@ -267,6 +268,56 @@ Eigen::VectorXd awayFromZero(Eigen::VectorXd phi, const TriMesh& mesh) {
   return phi;
 }
 
+// Regions of either sign with less than `minArea` that hold no sign point take the sign of
+// their surroundings (φ → −φ there): specks of a garment's print that look like the other side
+// (a yellow dot on a shirt above khaki trousers) survive the length regularisation as small
+// loops. Returns the number of regions flipped.
+int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
+                  const std::vector<ValueConstraint>& signs) {
+  const MeshTopology topo(mesh.F, mesh.numVertices());
+  const Eigen::VectorXd area = vertexAreas(mesh);
+  const int nV = mesh.numVertices();
+  std::vector<std::vector<int>> adj(nV);
+  for (int e = 0; e < topo.edges().rows(); ++e) {
+    const int a = topo.edges()(e, 0), b = topo.edges()(e, 1);
+    if ((phi[a] < 0) != (phi[b] < 0)) continue;
+    adj[a].push_back(b);
+    adj[b].push_back(a);
+  }
+  std::vector<int> region(nV, -1);
+  std::vector<double> regionArea;
+  for (int s = 0; s < nV; ++s) {
+    if (region[s] >= 0) continue;
+    const int id = static_cast<int>(regionArea.size());
+    regionArea.push_back(0);
+    std::vector<int> stack{s};
+    region[s] = id;
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      regionArea[id] += area[v];
+      for (int w : adj[v])
+        if (region[w] < 0) {
+          region[w] = id;
+          stack.push_back(w);
+        }
+    }
+  }
+  std::vector<char> keep(regionArea.size(), 0);
+  for (const ValueConstraint& c : signs)
+    for (int k = 0; k < 3; ++k) keep[region[mesh.F(c.point.face, k)]] = 1;
+  int flipped = 0;
+  std::vector<char> flip(regionArea.size(), 0);
+  for (size_t r = 0; r < regionArea.size(); ++r)
+    if (!keep[r] && regionArea[r] < minArea) {
+      flip[r] = 1;
+      ++flipped;
+    }
+  for (int v = 0; v < nV; ++v)
+    if (flip[region[v]]) phi[v] = phi[v] < 0 ? std::max(-phi[v], 1e-9) : std::min(-phi[v], -1e-9);
+  return flipped;
+}
+
 double meanHeight(const Isoline& iso) {
   double sum = 0, len = 0;
   for (const IsolineCurve& c : iso.curves) {
@@ -468,15 +519,25 @@ class Segmenter {
     if (!out.shoes) out.notes.push_back("no shoes: the feet have the colour of the skin");
   }
 
-  // Per-vertex skin or shoes on the cut-away feet, by the colour posterior.
+  // Per-vertex skin or shoes on the cut-away feet: the nearer model in CIEDE2000 (to the closest
+  // component mean). Not the GMM posterior: the skin model is fitted on the face and hands, and
+  // the shading of a leg puts its colour in the tails of both mixtures, where the broader one
+  // wins whatever the hue.
   Eigen::VectorXi skinOrShoes(const Stage& feet, bool shoes) const {
     Eigen::VectorXi out = Eigen::VectorXi::Constant(feet.mesh.numVertices(),
                                                     static_cast<int>(Label::Skin));
-    if (!shoes || feet.mesh.numVertices() == 0) return out;
-    const Eigen::VectorXd p = posteriorDisplacement(
-        {colours_.models[kFoot], colours_.models[kSkin]}, {true, false}, feet.lab);
-    for (int v = 0; v < p.size(); ++v)
-      if (p[v] > 0) out[v] = static_cast<int>(Label::Shoes);
+    if (!shoes) return out;
+    auto nearest = [](const GaussianMixture& g, const Eigen::Vector3d& lab) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < g.components(); ++k)
+        best = std::min(best, deltaE2000(lab, g.means.row(k).transpose()));
+      return best;
+    };
+    for (int v = 0; v < feet.mesh.numVertices(); ++v) {
+      const Eigen::Vector3d lab = feet.lab.row(v).transpose();
+      if (nearest(colours_.models[kFoot], lab) < nearest(colours_.models[kSkin], lab))
+        out[v] = static_cast<int>(Label::Shoes);
+    }
     return out;
   }
 
@@ -576,6 +637,11 @@ class Segmenter {
         rep.iterations += second.iterations;
         run.result = std::move(second);
       }
+    }
+    if (!run.result.vanished) {
+      rep.islandsRemoved = removeIslands(stage.mesh, run.result.phi, options_.minRegionArea, f.signs);
+      if (rep.islandsRemoved > 0)
+        run.result.boundary = extractIsoline(stage.mesh, run.result.phi);
     }
     rep.converged = run.result.converged;
     rep.vanished = run.result.vanished;

@@ -39,7 +39,14 @@ const char* toString(Occlusion occlusion);
 
 struct SegmentationOptions {
   BoundaryOptions boundary;
-  ColourModelOptions colour;
+  // σ ≥ 5 ΔE per mixture component: colours under scan lighting vary by several ΔE, and with
+  // tighter components a colour a little off the face's skin falls in the tails of every
+  // mixture, where the broadest one wins whatever the hue.
+  ColourModelOptions colour = [] {
+    ColourModelOptions c;
+    c.gmm.covarianceFloor = 25.0;
+    return c;
+  }();
   ProjectionOptions projection;  // bodyLength is set from the body's height
   double splineSpacing = 0.005;  // m between samples of the initial surface spline
   // §5.2: the second pass with the normal displacement (Eq. 5–6) replaces the first pass's
@@ -54,6 +61,10 @@ struct SegmentationOptions {
   // §5.3: the optimised waist boundary is "close to" the initial one when its mean height
   // differs by less than this (m); otherwise the garment on the lower side is occluded.
   double occlusionShift = 0.03;
+  // Regions a boundary leaves on either side that are smaller than this (m²) and hold no sign
+  // point are merged into their surroundings: specks of a print, not garments (a hand is
+  // ~0.03 m², a shoe ~0.05 m²).
+  double minRegionArea = 0.01;
 };
 
 // One optimised boundary.
@@ -72,6 +83,7 @@ struct BoundaryReport {
   bool gapPass = false;     // the Eq. 6 pass was run
   bool gapApplied = false;  // ... and its boundary was kept
   double gapShift = 0;      // mean distance (m) between the two passes' boundaries
+  int islandsRemoved = 0;   // regions below minRegionArea merged into their surroundings
   double seconds = 0;
   BoundaryTimings timings;
 };
