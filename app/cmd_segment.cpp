@@ -10,6 +10,7 @@
 #include "body/body_json.h"
 #include "body/body_source.h"
 #include "core/error.h"
+#include "eval/boundary_metrics.h"
 #include "eval/evaluation_files.h"
 #include "io/write_mesh.h"
 #include "synth/truth.h"
@@ -96,9 +97,28 @@ struct SuiteCommand {
   std::string out = "segment_suite_out";
   std::string segmenter = "curve";
   std::string only;
+  std::string reference;  // an earlier segment-suite output to compare boundaries with
   bool fast = false;
   bool noGapFilling = false;
 };
+
+// Mean and worst p95 distance (m) between this run's boundary curves and a reference run's,
+// over the label pairs both have (compareBoundary, both directions pooled).
+std::pair<double, double> boundaryDifference(const fs::path& ours, const fs::path& reference) {
+  const std::vector<TrueBoundary> a = readBoundaries(ours), b = readBoundaries(reference);
+  double sum = 0, worst = 0;
+  int n = 0;
+  for (const TrueBoundary& ref : b)
+    for (const TrueBoundary& x : a)
+      if (x.a == ref.a && x.b == ref.b) {
+        const BoundaryScore sc = compareBoundary(ref, &x);
+        if (sc.missing) continue;
+        sum += sc.pooled.mean;
+        worst = std::max(worst, sc.pooled.p95);
+        ++n;
+      }
+  return {n ? sum / n : 0.0, worst};
+}
 
 int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
   checkSegmenter(cmd.segmenter);
@@ -117,7 +137,9 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
   json rows = json::array();
   std::string table =
       "| preset | layout | occlusion | garment IoU | boundary mean mm | worst p95 mm | worst "
-      "roughness | missing | seconds |\n|---|---|---|---|---|---|---|---|---|\n";
+      "roughness | missing | seconds |" +
+      std::string(cmd.reference.empty() ? "" : " vs reference mean / p95 mm |") + "\n" +
+      "|---|---|---|---|---|---|---|---|---|" + (cmd.reference.empty() ? "" : "---|") + "\n";
   for (const fs::path& truthPath : truths) {
     const std::string name = truthPath.parent_path().filename().string();
     progress.message(fmt::format("suite entry {}", name));
@@ -157,10 +179,21 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
                   {"missing", missing},
                   {"seconds", s.seconds},
                   {"evaluation", evaluationToJson(e)}});
-      table += fmt::format("| {} | {} | {} | {:.3f} | {:.2f} | {:.2f} | {:.3f} | {} | {:.1f} |\n",
+      table += fmt::format("| {} | {} | {} | {:.3f} | {:.2f} | {:.2f} | {:.3f} | {} | {:.1f} |",
                            name, toString(s.layout), toString(s.occlusion), e.meanGarmentIoU,
                            row["boundary_mean_mm"].get<double>(), 1000 * worstP95, worstRough,
                            missing.empty() ? "-" : missing, s.seconds);
+      const fs::path refBoundaries = fs::path(cmd.reference) / name / "boundaries.json";
+      if (!cmd.reference.empty() && fs::exists(refBoundaries) &&
+          fs::exists(outDir / "boundaries.json")) {
+        const auto [mean, p95] = boundaryDifference(outDir / "boundaries.json", refBoundaries);
+        row["vs_reference_mean_mm"] = 1000 * mean;
+        row["vs_reference_p95_mm"] = 1000 * p95;
+        table += fmt::format(" {:.2f} / {:.2f} |", 1000 * mean, 1000 * p95);
+      } else if (!cmd.reference.empty()) {
+        table += " - |";
+      }
+      table += "\n";
     } catch (const Error& err) {
       row["error"] = err.what();
       table += fmt::format("| {} | error: {} |||||||\n", name, err.what());
@@ -209,6 +242,9 @@ void addSegmentCommand(CLI::App& app, Commands& out) {
   suite->add_option("--segmenter", so->segmenter, "curve or mrf")->capture_default_str();
   suite->add_option("--only", so->only, "Run only the entry of this name");
   suite->add_flag("--fast", so->fast, "Fast boundary optimisation");
+  suite->add_option("--reference", so->reference,
+                    "An earlier segment-suite output: adds the distance between its boundaries "
+                    "and this run's (e.g. fast path against faithful)");
   suite->add_flag("--no-gap-filling", so->noGapFilling, "Skip the gap-filling pass (§5.2)");
   out.push_back({suite, [so](Progress& progress) { return runSegmentSuite(*so, progress); }});
 }

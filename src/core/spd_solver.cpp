@@ -1,10 +1,12 @@
 #include "core/spd_solver.h"
 
 #include <cholmod.h>
+#include <dlfcn.h>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include "core/error.h"
@@ -134,7 +136,27 @@ struct SpdSolver::Impl {
   }
 };
 
-SpdSolver::SpdSolver(Ordering ordering) : impl_(std::make_unique<Impl>(ordering)) {}
+namespace {
+
+// CHOLMOD's supernodal factorisation calls BLAS on many small dense blocks. OpenBLAS's worker
+// threads spin-wait between those calls: on two cores they cost more than they give (a
+// segmentation spent three quarters of its time in the kernel). One BLAS thread, unless
+// OPENBLAS_NUM_THREADS asks otherwise; looked up at run time so that any BLAS links.
+void useOneBlasThread() {
+  static const bool done = [] {
+    if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr)
+      if (auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+        set(1);
+    return true;
+  }();
+  (void)done;
+}
+
+}  // namespace
+
+SpdSolver::SpdSolver(Ordering ordering) : impl_(std::make_unique<Impl>(ordering)) {
+  useOneBlasThread();
+}
 SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;

@@ -1,6 +1,7 @@
 #include "segment/segmentation.h"
 
 #include <Eigen/Eigenvalues>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
@@ -341,6 +342,9 @@ struct BoundaryJob {
   std::vector<bool> positive;
   bool gapFilling = false;
   Label garment = Label::Upper, other = Label::Skin;
+  // Colour cannot tell the sides apart (e.g. black trousers over black shoes): the boundary
+  // stays on the initial spline (φ₀), with a note, instead of wandering.
+  bool keepInitial = false;
 };
 
 // The labelled region points projected to the scan, by RegionLabel (skin, upper, lower, foot);
@@ -443,13 +447,23 @@ class Segmenter {
       if (out.shoes) {
         job.regions.push_back(kFoot);
         job.positive.push_back(true);
+        // The mixture must tell the foot's own points from the lower garment's.
+        const double footAsLower = fractionNegative(job, regionLab_[kFoot]);
+        const double lowerAsFoot = 1 - fractionNegative(job, regionLab_[kLower]);
+        if (footAsLower > 0.5 || lowerAsFoot > 0.5) {
+          job.keepInitial = true;
+          out.notes.push_back(fmt::format(
+              "B(L|S) kept on the ankle template: the colour model takes {:.0f} % of the foot "
+              "points for the lower garment and {:.0f} % of the lower garment's for feet",
+              100 * footAsLower, 100 * lowerAsFoot));
+        }
       }
       auto [run, cut] = optimiseAndCut(current, job);
       const Stage feet = childStage(current, cut.positive);
       const Eigen::VectorXi footVertex = skinOrShoes(feet, out.shoes);
       const Eigen::VectorXi footFace = majorityFaceLabels(feet.mesh, footVertex);
       labels.add(feet, Label::Skin, &footFace, &footVertex);
-      splitByOtherLabel(run.report, run.result.boundary, current, cut, footVertex);
+      splitByOtherLabel(run.report, run.result.boundary, feet, footVertex);
       out.boundaries.push_back(run.report);
       current = childStage(current, cut.negative);
     } else {
@@ -483,8 +497,15 @@ class Segmenter {
     std::vector<std::vector<SurfacePoint>> regions =
         projectRegionPoints(projector, features, regionPoints_, droppedRegionPoints_);
     hasFootRegion_ = regions[kFoot].size() >= 4;
+    for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
+    const Eigen::MatrixXd lab = colours_.lab;
+    for (int r = 0; r < 4; ++r) {
+      regionLab_[r].resize(static_cast<int>(regions[r].size()), 3);
+      for (size_t i = 0; i < regions[r].size(); ++i)
+        regionLab_[r].row(static_cast<int>(i)) = regions[r][i].interpolate(scan_.F, lab);
+    }
   }
 
   double deltaE(int a, int b) const { return deltaE2000(colours_.means[a], colours_.means[b]); }
@@ -535,10 +556,29 @@ class Segmenter {
     };
     for (int v = 0; v < feet.mesh.numVertices(); ++v) {
       const Eigen::Vector3d lab = feet.lab.row(v).transpose();
-      if (nearest(colours_.models[kFoot], lab) < nearest(colours_.models[kSkin], lab))
+      if (nearFoot(feet.mesh.V.row(v).transpose()) &&
+          nearest(colours_.models[kFoot], lab) < nearest(colours_.models[kSkin], lab))
         out[v] = static_cast<int>(Label::Shoes);
     }
     return out;
+  }
+
+  // Share of the colours `lab` (#N×3) the job's displacement puts on its negative side.
+  double fractionNegative(const BoundaryJob& job, const Eigen::MatrixX3d& lab) const {
+    if (lab.rows() == 0) return 0;
+    std::vector<GaussianMixture> models;
+    for (int r : job.regions) models.push_back(colours_.models[r]);
+    const Eigen::VectorXd d = posteriorDisplacement(models, job.positive, lab);
+    return static_cast<double>((d.array() < 0).count()) / static_cast<double>(d.size());
+  }
+
+  // A shoe reaches at most this far from the foot's region points (mid and front foot): no
+  // leg, and no gap-filling triangle under a hem, is taken for a shoe however it is coloured.
+  bool nearFoot(const Vec3& p) const {
+    constexpr double kShoeReach = 0.2;  // m
+    for (const Vec3& q : footPoints_)
+      if ((p - q).squaredNorm() < kShoeReach * kShoeReach) return true;
+    return false;
   }
 
   static Eigen::VectorXi majorityFaceLabels(const TriMesh& mesh, const Eigen::VectorXi& vl) {
@@ -620,9 +660,16 @@ class Segmenter {
     for (int r : job.regions) models.push_back(colours_.models[r]);
     const Eigen::VectorXd phiD = posteriorDisplacement(models, job.positive, stage.lab);
     BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
-    run.result = optimizer.run(f.splines, f.signs, phiD);
+    if (job.keepInitial) {
+      BoundaryResult& r = run.result;
+      r.phi0 = r.phi = optimizer.initialImplicit(f.splines, f.signs);
+      r.initial = r.boundary = extractIsoline(stage.mesh, r.phi);
+      r.converged = true;
+    } else {
+      run.result = optimizer.run(f.splines, f.signs, phiD);
+    }
     rep.iterations = run.result.iterations;
-    if (job.gapFilling && !run.result.vanished) {
+    if (job.gapFilling && !job.keepInitial && !run.result.vanished) {
       // §5.2: a second pass with the normal displacement (Eq. 6), kept when it moves the
       // boundary (a gap was bridged).
       const Eigen::VectorXd phiDn = normalDisplacement(stage.mesh, run.result.boundary,
@@ -657,22 +704,23 @@ class Segmenter {
 
   // B(L|S) borders skin or shoes: the reported curves are split where the label of the
   // cut-away side changes, so each piece carries its true label pair.
-  void splitByOtherLabel(BoundaryReport& rep, const Isoline& iso, const Stage& stage,
-                         const CutResult& cut, const Eigen::VectorXi& footVertex) const {
-    std::vector<int> partOf(stage.mesh.numVertices(), -1);
-    for (size_t v = 0; v < cut.positive.vertexOrigin.size(); ++v)
-      if (cut.positive.vertexOrigin[v].isOriginal())
-        partOf[cut.positive.vertexOrigin[v].a] = static_cast<int>(v);
-    const MeshTopology topo(stage.mesh.F, stage.mesh.numVertices());
+  void splitByOtherLabel(BoundaryReport& rep, const Isoline& iso, const Stage& feet,
+                         const Eigen::VectorXi& footVertex) const {
+    // Each boundary point takes the majority label of the cut-away vertices within kReach: the
+    // vertices right at the boundary carry colours smoothed across it (khaki and black make a
+    // skin-like brown).
+    constexpr double kReach = 0.03;  // m
     rep.otherLabels.clear();
     rep.finalCurves.clear();
     rep.finalClosed.clear();
     for (const IsolineCurve& c : iso.curves) {
       std::vector<int> label;
       for (const IsolinePoint& p : c.points) {
-        const int a = topo.edges()(p.edge, 0), b = topo.edges()(p.edge, 1);
-        const int v = partOf[a] >= 0 ? partOf[a] : partOf[b];
-        label.push_back(v >= 0 ? footVertex[v] : static_cast<int>(Label::Skin));
+        int shoes = 0, skin = 0;
+        for (int v = 0; v < feet.mesh.numVertices(); ++v)
+          if ((feet.mesh.V.row(v).transpose() - p.position).squaredNorm() < kReach * kReach)
+            (footVertex[v] == static_cast<int>(Label::Shoes) ? shoes : skin)++;
+        label.push_back(static_cast<int>(shoes > skin ? Label::Shoes : Label::Skin));
       }
       // Runs of one label; a closed curve of one label stays closed.
       const size_t n = c.points.size();
@@ -807,6 +855,8 @@ class Segmenter {
   ProjectedCurve upperSkin_, lowerSkin_, upperLower_;
   RegionColours colours_;
   bool hasFootRegion_ = false;
+  std::vector<Vec3> footPoints_;  // projected foot region points
+  std::array<Eigen::MatrixX3d, 4> regionLab_;  // CIELAB at each region's points
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;
   std::unique_ptr<MeshQuery> bodyQuery_;
