@@ -170,6 +170,7 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
         ++scored;
       }
       const Segmentation& s = result.segmentation;
+      const bool mrf = cmd.segmenter == "mrf";  // no layout or occlusion decisions
       row.update({{"layout", toString(s.layout)},
                   {"occlusion", toString(s.occlusion)},
                   {"garment_iou", e.meanGarmentIoU},
@@ -180,7 +181,8 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
                   {"seconds", s.seconds},
                   {"evaluation", evaluationToJson(e)}});
       table += fmt::format("| {} | {} | {} | {:.3f} | {:.2f} | {:.2f} | {:.3f} | {} | {:.1f} |",
-                           name, toString(s.layout), toString(s.occlusion), e.meanGarmentIoU,
+                           name, mrf ? "-" : toString(s.layout), mrf ? "-" : toString(s.occlusion),
+                           e.meanGarmentIoU,
                            row["boundary_mean_mm"].get<double>(), 1000 * worstP95, worstRough,
                            missing.empty() ? "-" : missing, s.seconds);
       const fs::path refBoundaries = fs::path(cmd.reference) / name / "boundaries.json";

@@ -191,22 +191,27 @@ std::vector<Eigen::MatrixX3d> curvePolylines(const Isoline& iso, std::vector<boo
   return out;
 }
 
-// Distance from p to a set of polylines (brute force over segments).
-double distanceToCurves(const Vec3& p, const Isoline& iso) {
-  double best = std::numeric_limits<double>::infinity();
+// Calls f(a, b) for every segment of every curve (closing segments included).
+template <typename F>
+void forEachSegment(const Isoline& iso, F&& f) {
   for (const IsolineCurve& c : iso.curves) {
     const size_t n = c.points.size();
     const size_t segments = c.closed ? n : (n == 0 ? 0 : n - 1);
-    for (size_t i = 0; i < segments; ++i) {
-      const Vec3& a = c.points[i].position;
-      const Vec3& b = c.points[(i + 1) % n].position;
-      const Vec3 ab = b - a;
-      const double len2 = ab.squaredNorm();
-      const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-      best = std::min(best, (a + t * ab - p).norm());
-    }
-    if (n == 1) best = std::min(best, (c.points[0].position - p).norm());
+    for (size_t i = 0; i < segments; ++i) f(c.points[i].position, c.points[(i + 1) % n].position);
   }
+}
+
+// Distance from p to a set of polylines (brute force over segments).
+double distanceToCurves(const Vec3& p, const Isoline& iso) {
+  double best = std::numeric_limits<double>::infinity();
+  forEachSegment(iso, [&](const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * ab - p).norm());
+  });
+  for (const IsolineCurve& c : iso.curves)
+    if (c.points.size() == 1) best = std::min(best, (c.points[0].position - p).norm());
   return best;
 }
 
@@ -321,16 +326,10 @@ int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
 
 double meanHeight(const Isoline& iso) {
   double sum = 0, len = 0;
-  for (const IsolineCurve& c : iso.curves) {
-    const size_t n = c.points.size();
-    const size_t segments = c.closed ? n : (n == 0 ? 0 : n - 1);
-    for (size_t i = 0; i < segments; ++i) {
-      const Vec3& a = c.points[i].position;
-      const Vec3& b = c.points[(i + 1) % n].position;
-      sum += 0.5 * (a.y() + b.y()) * (b - a).norm();
-      len += (b - a).norm();
-    }
-  }
+  forEachSegment(iso, [&](const Vec3& a, const Vec3& b) {
+    sum += 0.5 * (a.y() + b.y()) * (b - a).norm();
+    len += (b - a).norm();
+  });
   return len > 0 ? sum / len : 0.0;
 }
 
