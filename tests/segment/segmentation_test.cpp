@@ -111,6 +111,58 @@ TEST(Segmentation, DressIsOnePieceWithItsHemFound_Slow) {
   EXPECT_GE(score(c, seg).meanGarmentIoU, 0.97);
 }
 
+// The scan with every vertex of one label painted in the skin's own colours (a bare torso or
+// bare legs where the generator put a garment): the region colour matches the skin.
+Eigen::MatrixX3d paintedAsSkin(const Case& c, Label label) {
+  Eigen::MatrixX3d colour = c.scan.scan.colour;
+  Eigen::RowVector3d skin = Eigen::RowVector3d::Zero();
+  int n = 0;
+  for (int v = 0; v < colour.rows(); ++v)
+    if (c.scan.vertexLabel[v] == static_cast<int>(Label::Skin)) {
+      skin += colour.row(v);
+      ++n;
+    }
+  skin /= n;
+  for (int v = 0; v < colour.rows(); ++v)
+    if (c.scan.vertexLabel[v] == static_cast<int>(label)) colour.row(v) = skin;
+  return colour;
+}
+
+// The layout decisions do not depend on the optimiser's path: the fast one keeps these quick.
+SegmentationOptions fastOptions() {
+  SegmentationOptions o;
+  o.boundary.faithful = false;
+  return o;
+}
+
+TEST(Segmentation, BareTorsoIsDetectedAndTheTrousersStillFound_Slow) {
+  const Case& c = synthCase("tshirt_trousers", 12000);
+  const Segmentation seg = segmentScan(c.scan.scan.mesh, paintedAsSkin(c, Label::Upper),
+                                       c.body.posed.mesh, c.body.features, fastOptions());
+  EXPECT_EQ(seg.layout, GarmentLayout::LowerOnly);
+  ASSERT_EQ(seg.garments.size(), 1u);
+  EXPECT_EQ(seg.garments[0].name, "lower");
+  // The trousers against the truth's trousers.
+  double inter = 0, uni = 0;
+  const Eigen::VectorXd area = faceAreas(c.scan.scan.mesh);
+  for (int f = 0; f < area.size(); ++f) {
+    const bool t = c.scan.faceLabel[f] == static_cast<int>(Label::Lower);
+    const bool p = seg.faceLabel[f] == static_cast<int>(Label::Lower);
+    inter += (t && p) * area[f];
+    uni += (t || p) * area[f];
+  }
+  EXPECT_GT(inter / uni, 0.95);
+}
+
+TEST(Segmentation, BareLegsAreDetected_Slow) {
+  const Case& c = synthCase("tshirt_trousers", 12000);
+  const Segmentation seg = segmentScan(c.scan.scan.mesh, paintedAsSkin(c, Label::Lower),
+                                       c.body.posed.mesh, c.body.features, fastOptions());
+  EXPECT_EQ(seg.layout, GarmentLayout::UpperOnly);
+  ASSERT_EQ(seg.garments.size(), 1u);
+  EXPECT_EQ(seg.garments[0].name, "upper");
+}
+
 TEST(Segmentation, BadInputIsRefusedWithClearErrors) {
   const Case& c = synthCase("tshirt_trousers", 6000);
   const TriMesh& scan = c.scan.scan.mesh;
