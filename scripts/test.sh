@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Builds and runs every test: the whole suite in the optimised build (benchmarks are built
 # too, so they keep compiling), then the library test programs again under AddressSanitizer +
-# UndefinedBehaviorSanitizer, without the tests named *_Slow and without the fit and synth test
-# programs: Ceres fits and level-set generation take minutes under ASan (valgrind and an earlier
-# ASan run covered them; CMakePresets.json, preset asan).
+# UndefinedBehaviorSanitizer, without the tests named *_Slow and without the fit, synth, eval and
+# pipeline test programs: Ceres fits and the generator's level sets take minutes to build and run
+# under ASan (valgrind and an earlier ASan run covered them; CMakePresets.json, preset asan).
 # Usage: scripts/test.sh [--no-sanitize]
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -61,6 +61,14 @@ Evaluation score(const Case& c, const Segmentation& seg) {
   return evaluate(in);
 }
 
+// Layout decisions and topology do not depend on the optimiser's path (the suite shows the
+// two paths agree on these presets): the fast one keeps those tests quick.
+SegmentationOptions fastOptions() {
+  SegmentationOptions o;
+  o.boundary.faithful = false;
+  return o;
+}
+
 TEST(Segmentation, TshirtTrousersMatchesTheTruth_Slow) {
   const Case& c = synthCase("tshirt_trousers", 12000);
   const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
@@ -91,7 +99,7 @@ TEST(Segmentation, TshirtTrousersMatchesTheTruth_Slow) {
 TEST(Segmentation, DressIsOnePieceWithItsHemFound_Slow) {
   const Case& c = synthCase("dress", 12000);
   const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
-                                       c.body.features);
+                                       c.body.features, fastOptions());
   EXPECT_EQ(seg.layout, GarmentLayout::OnePiece);
   ASSERT_EQ(seg.garments.size(), 1u);
   EXPECT_EQ(seg.garments[0].name, "onepiece");
@@ -126,13 +134,6 @@ Eigen::MatrixX3d paintedAsSkin(const Case& c, Label label) {
   for (int v = 0; v < colour.rows(); ++v)
     if (c.scan.vertexLabel[v] == static_cast<int>(label)) colour.row(v) = skin;
   return colour;
-}
-
-// The layout decisions do not depend on the optimiser's path: the fast one keeps these quick.
-SegmentationOptions fastOptions() {
-  SegmentationOptions o;
-  o.boundary.faithful = false;
-  return o;
 }
 
 TEST(Segmentation, BareTorsoIsDetectedAndTheTrousersStillFound_Slow) {
