@@ -38,7 +38,7 @@ int runDemo(const fs::path& outDir, Progress& progress) {
                                       body.features, {}, &progress),
                           "curve"};
   progress.begin("write segmentation");
-  writeSegmentation(outDir / "segment", loaded.scan, body.body, seg);
+  writeSegmentation(outDir / "segment", loaded.scan, seg);
   progress.end();
   printSegmentation(seg.segmentation);
   const Evaluation e = evaluate(loadEvaluation(resolveEvaluationFiles(outDir / "truth.json",

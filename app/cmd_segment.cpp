@@ -80,7 +80,7 @@ int runSegment(const SegmentCommand& cmd, Progress& progress) {
                                             segmentationOptions(cmd.fast, cmd.noGapFilling),
                                             progress);
   progress.begin("write outputs");
-  writeSegmentation(cmd.out, loaded.scan, body.body, result);
+  writeSegmentation(cmd.out, loaded.scan, result);
   progress.end();
   printSegmentation(result.segmentation);
   fmt::print("wrote {}/: segmentation.ply, {}{}, garments.json, segment_boundaries.png, "
@@ -152,7 +152,7 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
       const PosedFeatures body = poseBodyForScan(truth.body, loaded.scan, progress);
       const SegmentOutput result =
           runSegmenter(cmd.segmenter, loaded.scan, body, options, progress);
-      writeSegmentation(outDir, loaded.scan, body.body, result);
+      writeSegmentation(outDir, loaded.scan, result);
       const LoadedEvaluation ev = loadEvaluation(resolveEvaluationFiles(truthPath, outDir));
       const Evaluation e = evaluate(ev.input());
       writeJson(outDir / "evaluation.json", evaluationToJson(e));

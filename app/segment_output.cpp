@@ -124,7 +124,7 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
           {"frame", "the scan file's frame and units"}};
 }
 
-void writeSegmentation(const fs::path& dir, const Scan& scan, const TriMesh& body,
+void writeSegmentation(const fs::path& dir, const Scan& scan,
                        const SegmentOutput& out) {
   const Segmentation& s = out.segmentation;
   fs::create_directories(dir);
@@ -180,7 +180,6 @@ void writeSegmentation(const fs::path& dir, const Scan& scan, const TriMesh& bod
   labels.meshes.push_back({&scan.mesh, &byLabel});
   for (const GarmentPiece& g : s.garments)
     if (g.occluded) labels.meshes.push_back({&g.mesh, nullptr, Rgb{120, 120, 120}, 0.35f});
-  (void)body;
   writePng(dir / "segment_labels.png", renderScene(labels, ro));
 }
 

@@ -35,7 +35,7 @@ SegmentOutput segmentWithMrf(const Scan& scan, const TriMesh& body, const Featur
 nlohmann::json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput);
 
 // Writes everything into `dir` (created). Coordinates go back to the scan file's frame.
-void writeSegmentation(const std::filesystem::path& dir, const Scan& scan, const TriMesh& body,
+void writeSegmentation(const std::filesystem::path& dir, const Scan& scan,
                        const SegmentOutput& out);
 void printSegmentation(const Segmentation& s);
 std::string garmentFileList(const Segmentation& s);  // "upper.obj, lower.obj, "

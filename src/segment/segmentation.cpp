@@ -399,6 +399,7 @@ class Segmenter {
     validateMesh(body, "body");
     checkColour(scan, colour);
     height_ = bodyHeight(body);
+    bodyQuery_ = std::make_unique<MeshQuery>(body);
     tolerance_ = 1e-7 * std::max(height_, 1.0);
     ProjectionOptions popt = options.projection;
     popt.bodyLength = height_;
@@ -460,7 +461,7 @@ class Segmenter {
       auto [run, cut] = optimiseAndCut(current, job);
       const Stage feet = childStage(current, cut.positive);
       const Eigen::VectorXi footVertex = skinOrShoes(feet, out.shoes);
-      const Eigen::VectorXi footFace = majorityFaceLabels(feet.mesh, footVertex);
+      const Eigen::VectorXi footFace = faceLabelsFromVertices(feet.mesh, footVertex);
       labels.add(feet, Label::Skin, &footFace, &footVertex);
       splitByOtherLabel(run.report, run.result.boundary, feet, footVertex);
       out.boundaries.push_back(run.report);
@@ -578,15 +579,6 @@ class Segmenter {
     for (const Vec3& q : footPoints_)
       if ((p - q).squaredNorm() < kShoeReach * kShoeReach) return true;
     return false;
-  }
-
-  static Eigen::VectorXi majorityFaceLabels(const TriMesh& mesh, const Eigen::VectorXi& vl) {
-    Eigen::VectorXi out(mesh.numFaces());
-    for (int f = 0; f < mesh.numFaces(); ++f) {
-      const int a = vl[mesh.F(f, 0)], b = vl[mesh.F(f, 1)], c = vl[mesh.F(f, 2)];
-      out[f] = (b == c) ? b : a;
-    }
-    return out;
   }
 
   GarmentPiece piece(const std::string& name, Label label, const Stage& s) const {
@@ -826,7 +818,7 @@ class Segmenter {
     if (rim.empty()) return p;
     Eigen::MatrixX3d rimPositions(static_cast<int>(rim.size()), 3);
     for (size_t i = 0; i < rim.size(); ++i) rimPositions.row(static_cast<int>(i)) = s.mesh.V.row(rim[i]);
-    const std::vector<ClosestHit> onBody = bodyQuery().closestPoints(rimPositions);
+    const std::vector<ClosestHit> onBody = bodyQuery_->closestPoints(rimPositions);
     Eigen::MatrixX3d targets(static_cast<int>(rim.size()), 3);
     for (size_t i = 0; i < rim.size(); ++i) targets.row(static_cast<int>(i)) = onBody[i].point.transpose();
     p.mesh.V = biharmonicDeformation(s.mesh, rim, targets, fixed);
@@ -839,11 +831,6 @@ class Segmenter {
     }
     return p;
   }
-
-  const MeshQuery& bodyQuery() const { return *bodyQuery_; }
-
- public:
-  void setBody(const TriMesh& body) { bodyQuery_ = std::make_unique<MeshQuery>(body); }
 
  private:
   const TriMesh& scan_;
@@ -868,7 +855,6 @@ Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, co
                          Progress* progress) {
   Progress& p = progress ? *progress : Progress::silent();
   Segmenter s(scan, colour, body, features, options, p);
-  s.setBody(body);
   return s.run();
 }
 
