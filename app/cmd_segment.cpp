@@ -75,7 +75,8 @@ int runSegment(const SegmentCommand& cmd, Progress& progress) {
   checkSegmenter(cmd.segmenter);
   const json bodyJson = cmd.truth.empty() ? readJsonFile(cmd.body, "body file") : truthBody(cmd.truth);
   const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
-  const PosedFeatures body = poseBodyForScan(bodyJson, loaded.scan, progress);
+  const PosedFeatures body = poseBodyForScan(
+      bodyJson, loaded.scan, progress, cmd.body.empty() ? fs::path() : fs::absolute(cmd.body).parent_path());
   const SegmentOutput result = runSegmenter(cmd.segmenter, loaded.scan, body,
                                             segmentationOptions(cmd.fast, cmd.noGapFilling),
                                             progress);
@@ -153,38 +154,24 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
       const SegmentOutput result =
           runSegmenter(cmd.segmenter, loaded.scan, body, options, progress);
       writeSegmentation(outDir, loaded.scan, result);
-      const LoadedEvaluation ev = loadEvaluation(resolveEvaluationFiles(truthPath, outDir));
-      const Evaluation e = evaluate(ev.input());
-      writeJson(outDir / "evaluation.json", evaluationToJson(e));
-      double meanSum = 0, worstP95 = 0, worstRough = 0;
-      int scored = 0;
-      std::string missing;
-      for (const BoundaryScore& b : e.boundaries) {
-        if (b.missing) {
-          missing += fmt::format("{}{}|{}", missing.empty() ? "" : " ", toString(b.a), toString(b.b));
-          continue;
-        }
-        meanSum += b.pooled.mean;
-        worstP95 = std::max(worstP95, b.pooled.p95);
-        worstRough = std::max(worstRough, b.roughness);
-        ++scored;
-      }
+      const SegmentScore score = scoreSegmentation(truthPath, outDir);
+      const Evaluation& e = score.evaluation;
       const Segmentation& s = result.segmentation;
       const bool mrf = cmd.segmenter == "mrf";  // no layout or occlusion decisions
       row.update({{"layout", toString(s.layout)},
                   {"occlusion", toString(s.occlusion)},
                   {"garment_iou", e.meanGarmentIoU},
-                  {"boundary_mean_mm", scored ? 1000 * meanSum / scored : 0.0},
-                  {"worst_p95_mm", 1000 * worstP95},
-                  {"worst_roughness", worstRough},
-                  {"missing", missing},
+                  {"boundary_mean_mm", 1000 * score.boundaryMean},
+                  {"worst_p95_mm", 1000 * score.worstP95},
+                  {"worst_roughness", score.worstRoughness},
+                  {"missing", score.missing},
                   {"seconds", s.seconds},
                   {"evaluation", evaluationToJson(e)}});
       table += fmt::format("| {} | {} | {} | {:.3f} | {:.2f} | {:.2f} | {:.3f} | {} | {:.1f} |",
                            name, mrf ? "-" : toString(s.layout), mrf ? "-" : toString(s.occlusion),
-                           e.meanGarmentIoU,
-                           row["boundary_mean_mm"].get<double>(), 1000 * worstP95, worstRough,
-                           missing.empty() ? "-" : missing, s.seconds);
+                           e.meanGarmentIoU, 1000 * score.boundaryMean, 1000 * score.worstP95,
+                           score.worstRoughness, score.missing.empty() ? "-" : score.missing,
+                           s.seconds);
       const fs::path refBoundaries = fs::path(cmd.reference) / name / "boundaries.json";
       if (!cmd.reference.empty() && fs::exists(refBoundaries) &&
           fs::exists(outDir / "boundaries.json")) {

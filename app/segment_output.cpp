@@ -7,8 +7,10 @@
 #include "app/commands.h"
 #include "body/body_json.h"
 #include "core/error.h"
+#include "eval/evaluation_files.h"
 #include "export/png.h"
 #include "export/preview.h"
+#include "io/read_scan.h"
 #include "io/write_mesh.h"
 #include "synth/synthesize.h"
 
@@ -43,10 +45,59 @@ double polylineLength(const Eigen::MatrixX3d& P, bool closed) {
 
 }  // namespace
 
-PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& progress) {
+namespace {
+
+// "to_scan_file": a 4×4 row-major matrix; absent: identity (the body is in the file's frame).
+Eigen::Affine3d toScanFile(const json& bodyJson) {
+  Eigen::Affine3d T = Eigen::Affine3d::Identity();
+  if (!bodyJson.contains("to_scan_file")) return T;
+  const json& m = bodyJson["to_scan_file"];
+  try {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) T.matrix()(r, c) = m.at(r).at(c).get<double>();
+  } catch (const json::exception&) {
+    throw FormatError("the body JSON's \"to_scan_file\" is not a 4×4 matrix of numbers");
+  }
+  if (!T.matrix().allFinite() || std::abs(T.linear().determinant()) < 1e-12)
+    throw InputError("the body JSON's \"to_scan_file\" is not an invertible transform");
+  return T;
+}
+
+// The non-rigid fit written next to body.json (same faces as the model, in the scan file's
+// frame); an OBJ reader may split vertices per corner, so positions are gathered by face.
+Eigen::MatrixX3d readFullMesh(const fs::path& path, const BodyModel& model) {
+  ReadOptions ro;
+  ro.loadTexture = false;
+  const Scan s = readScan(path, ro);
+  if (s.mesh.numFaces() != model.rest.numFaces())
+    throw FormatError(fmt::format("{} has {} faces, but the body model {} has {}: not its full "
+                                  "fit (rerun scan2pattern fit)",
+                                  path.string(), s.mesh.numFaces(), model.source,
+                                  model.rest.numFaces()));
+  Eigen::MatrixX3d V(model.numVertices(), 3);
+  for (int f = 0; f < s.mesh.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) V.row(model.rest.F(f, k)) = s.mesh.V.row(s.mesh.F(f, k));
+  return V;
+}
+
+}  // namespace
+
+PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& progress,
+                              const fs::path& jsonDir) {
   progress.begin("pose body");
   BodyFromJson b = bodyFromJson(bodyJson);
   PosedFeatures out{std::move(b.posed.mesh), std::move(b.features)};
+  const bool full = bodyJson.contains("full_mesh") && bodyJson["full_mesh"].is_string() &&
+                    !jsonDir.empty();
+  const fs::path fullPath = full ? jsonDir / bodyJson["full_mesh"].get<std::string>() : fs::path();
+  if (full && fs::exists(fullPath)) {
+    out.body.V = readFullMesh(fullPath, b.model);
+  } else {
+    if (full)
+      progress.message(fmt::format("{} is missing: the features are carried by the posed body",
+                                   fullPath.string()));
+    out.body.V = toFrame(toScanFile(bodyJson), out.body.V);
+  }
   out.body.V = toFrame(scan.toInputFrame.inverse(), out.body.V);
   progress.end();
   return out;
@@ -181,6 +232,28 @@ void writeSegmentation(const fs::path& dir, const Scan& scan,
   for (const GarmentPiece& g : s.garments)
     if (g.occluded) labels.meshes.push_back({&g.mesh, nullptr, Rgb{120, 120, 120}, 0.35f});
   writePng(dir / "segment_labels.png", renderScene(labels, ro));
+}
+
+SegmentScore scoreSegmentation(const fs::path& truthPath, const fs::path& outDir) {
+  const LoadedEvaluation ev = loadEvaluation(resolveEvaluationFiles(truthPath, outDir));
+  SegmentScore out;
+  out.evaluation = evaluate(ev.input());
+  writeJson(outDir / "evaluation.json", evaluationToJson(out.evaluation));
+  double meanSum = 0;
+  int scored = 0;
+  for (const BoundaryScore& b : out.evaluation.boundaries) {
+    if (b.missing) {
+      out.missing += fmt::format("{}{}|{}", out.missing.empty() ? "" : " ", toString(b.a),
+                                 toString(b.b));
+      continue;
+    }
+    meanSum += b.pooled.mean;
+    out.worstP95 = std::max(out.worstP95, b.pooled.p95);
+    out.worstRoughness = std::max(out.worstRoughness, b.roughness);
+    ++scored;
+  }
+  out.boundaryMean = scored ? meanSum / scored : 0.0;
+  return out;
 }
 
 void printSegmentation(const Segmentation& s) {

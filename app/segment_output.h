@@ -6,19 +6,22 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "eval/evaluation.h"
 #include "io/scan.h"
 #include "segment/segmentation.h"
 
 namespace s2p::app {
 
 // The posed body of a body JSON (bodyToJson: "source", shape, pose), moved into the normalised
-// frame of `scan` (the JSON is in the scan file's frame), with its feature set.
+// frame of `scan`, with its feature set. The posed body is in the scan file's frame, or is taken
+// there by "to_scan_file" (a fit's body.json); a fit's "full_mesh" (its non-rigid fit, a file
+// relative to `jsonDir`) replaces the posed body when `jsonDir` is given and the file exists.
 struct PosedFeatures {
   TriMesh body;
   FeatureSet features;
 };
 PosedFeatures poseBodyForScan(const nlohmann::json& bodyJson, const Scan& scan,
-                              Progress& progress);
+                              Progress& progress, const std::filesystem::path& jsonDir = {});
 
 struct SegmentOutput {
   Segmentation segmentation;
@@ -37,6 +40,16 @@ nlohmann::json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3
 // Writes everything into `dir` (created). Coordinates go back to the scan file's frame.
 void writeSegmentation(const std::filesystem::path& dir, const Scan& scan,
                        const SegmentOutput& out);
+// A segmentation written in `outDir` scored against a synthetic scan's truth.json (also
+// written as outDir/evaluation.json); boundary figures over the boundaries found, in metres.
+struct SegmentScore {
+  Evaluation evaluation;
+  double boundaryMean = 0, worstP95 = 0, worstRoughness = 0;
+  std::string missing;  // "upper|skin lower|shoes": true boundaries with no prediction
+};
+SegmentScore scoreSegmentation(const std::filesystem::path& truthPath,
+                               const std::filesystem::path& outDir);
+
 void printSegmentation(const Segmentation& s);
 std::string garmentFileList(const Segmentation& s);  // "upper.obj, lower.obj, "
 

@@ -1,0 +1,319 @@
+// fit: the body under the clothes (paper §4, App. A, §5.1.2); run: fit, then segment, on a scan
+// nobody labelled; fit-suite: the fit (and optionally the whole run) over a bench-suite folder,
+// scored against the truth.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <sstream>
+
+#include "app/commands.h"
+#include "app/fit_output.h"
+#include "app/segment_output.h"
+#include "body/body_json.h"
+#include "body/body_source.h"
+#include "core/error.h"
+#include "fit/scan_fit.h"
+#include "io/write_mesh.h"
+#include "synth/truth.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace s2p::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+struct FitCommand {
+  std::string scan;
+  std::string out;
+  std::string model = "mannequin";
+  bool noNonrigid = false;
+  LoadOptions load;
+};
+
+void addFitOptions(CLI::App* cmd, FitCommand& o) {
+  cmd->add_option("SCAN", o.scan, "Scan file (PLY, OBJ, glTF)")->required();
+  cmd->add_option("-o,--output", o.out, "Output folder")->capture_default_str();
+  cmd->add_option("--model", o.model,
+                  "Body model: mannequin (built in), mpfb2:DIR (MakeHuman/MPFB2 folder) or "
+                  "smpl:FILE.npz")
+      ->capture_default_str();
+  cmd->add_flag("--no-nonrigid", o.noNonrigid,
+                "Skip the non-rigid full fit (body_full.obj is then the fitted body)");
+  addLoadOptions(cmd, o.load);
+}
+
+BodyModel loadModel(const std::string& spec, Progress& progress) {
+  progress.begin("load body model " + spec);
+  BodyModel m = loadBodyModel(spec);
+  progress.end();
+  return m;
+}
+
+ScanFitOptions scanFitOptions(const FitCommand& cmd) {
+  ScanFitOptions o;
+  o.nonrigid = !cmd.noNonrigid;
+  return o;
+}
+
+int runFit(const FitCommand& cmd, Progress& progress) {
+  const BodyModel model = loadModel(cmd.model, progress);
+  const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
+  const ScanFit fit = fitScan(loaded.scan.mesh, model, scanFitOptions(cmd), &progress);
+  progress.begin("write outputs");
+  writeFit(cmd.out, loaded.scan, model, fit);
+  progress.end();
+  printFit(fit);
+  fmt::print("wrote {}/: body_fit.obj, body_full.obj, body.json, fit_front.png, fit_side.png\n",
+             cmd.out);
+  return 0;
+}
+
+// === run: fit, then segment; report.json.
+
+struct RunCommand {
+  FitCommand fit;
+  bool fast = false;
+};
+
+json segmentationSummary(const Segmentation& s) {
+  json garments = json::array();
+  for (const GarmentPiece& g : s.garments)
+    garments.push_back({{"name", g.name}, {"occluded", g.occluded}, {"faces", g.mesh.numFaces()}});
+  json boundaries = json::array();
+  for (const BoundaryReport& b : s.boundaries)
+    boundaries.push_back({{"name", b.name}, {"iterations", b.iterations},
+                          {"converged", b.converged}, {"curves", b.finalCurves.size()}});
+  return {{"layout", toString(s.layout)},
+          {"one_piece", s.layout == GarmentLayout::OnePiece},
+          {"occlusion", toString(s.occlusion)},
+          {"shoes", s.shoes},
+          {"garments", garments},
+          {"boundaries", boundaries}};
+}
+
+int runRun(const RunCommand& cmd, Progress& progress) {
+  const auto t0 = Clock::now();
+  json stages = json::array();
+  auto timed = [&](const std::string& name, auto&& f) {
+    const auto t = Clock::now();
+    auto r = f();
+    stages.push_back({{"stage", name}, {"seconds", secondsSince(t)}});
+    return r;
+  };
+  const BodyModel model = timed("load body model", [&] { return loadModel(cmd.fit.model, progress); });
+  const LoadedScan loaded = timed("load scan", [&] { return loadScan(cmd.fit.scan, cmd.fit.load, progress); });
+  const ScanFit fit = timed("fit", [&] {
+    return fitScan(loaded.scan.mesh, model, scanFitOptions(cmd.fit), &progress);
+  });
+  SegmentationOptions so;
+  so.boundary.faithful = !cmd.fast;
+  const SegmentOutput seg = timed("segment", [&] {
+    const PosedFeatures body = fittedFeatures(model, fit);
+    return SegmentOutput{segmentScan(loaded.scan.mesh, loaded.scan.colour, body.body,
+                                     body.features, so, &progress),
+                         "curve"};
+  });
+  // Everything is computed; only now is anything written.
+  const fs::path out = cmd.fit.out;
+  progress.begin("write outputs");
+  writeFit(out / "fit", loaded.scan, model, fit);
+  writeSegmentation(out / "segment", loaded.scan, seg);
+  std::vector<std::string> warnings = loaded.normalize.warnings;
+  for (const auto& w : loaded.read.warnings) warnings.push_back(w);
+  for (const auto& w : fit.warnings) warnings.push_back("fit: " + w);
+  for (const auto& n : seg.segmentation.notes) warnings.push_back("segment: " + n);
+  json fitTimings = json::object();
+  for (const auto& [name, s] : fit.timings) fitTimings[name] = s;
+  const json report = {
+      {"scan", loaded.scan.sourcePath},
+      {"model", model.source},
+      {"stages", stages},
+      {"fit", {{"timings", fitTimings},
+               {"yaw_degrees", fit.orientation.yaw * 180 / M_PI},
+               {"orientation_confidence", fit.orientation.confidence},
+               {"initialisation", fit.initialisation},
+               {"inside_or_within_5mm", fit.fit.insideOrNear}}},
+      {"found", segmentationSummary(seg.segmentation)},
+      {"warnings", warnings},
+      {"seconds", secondsSince(t0)},
+      {"outputs", {{"fit", "fit/: body_fit.obj, body_full.obj, body.json, fit_front.png, "
+                           "fit_side.png"},
+                   {"segment", "segment/: segmentation.ply, " + garmentFileList(seg.segmentation) +
+                                   "garments.json, boundaries.json, segment_boundaries.png, "
+                                   "segment_labels.png"}}}};
+  writeJson(out / "report.json", report);
+  progress.end();
+  printFit(fit);
+  printSegmentation(seg.segmentation);
+  fmt::print("wrote {}/report.json; pictures: {}/fit/fit_front.png, {}/segment/segment_labels.png\n",
+             out.string(), out.string(), out.string());
+  return 0;
+}
+
+// === fit-suite
+
+struct FitSuiteCommand {
+  std::string suiteDir;
+  std::string out = "fit_suite_out";
+  std::string model = "mannequin";
+  std::string only;
+  std::vector<double> rotations{0};
+  bool segment = false;
+  bool fast = false;
+};
+
+Eigen::Affine3d aboutVertical(const TriMesh& mesh, double degrees) {
+  const Eigen::Vector3d c = boundingBox(mesh.V).centre();
+  const Eigen::Vector3d pivot(c.x(), 0, c.z());
+  return Eigen::Translation3d(pivot) * Eigen::Affine3d(yawRotation(degrees * M_PI / 180)) *
+         Eigen::Translation3d(-pivot);
+}
+
+Eigen::MatrixX3d applied(const Eigen::Affine3d& T, const Eigen::MatrixX3d& P) {
+  return (P * T.linear().transpose()).rowwise() + T.translation().transpose();
+}
+
+int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
+  if (!fs::is_directory(cmd.suiteDir))
+    throw IoError(fmt::format("{} is not a folder (make one with scan2pattern bench-suite -o DIR)",
+                              cmd.suiteDir));
+  std::vector<fs::path> truths;
+  for (const auto& e : fs::directory_iterator(cmd.suiteDir))
+    if (e.is_directory() && fs::exists(e.path() / "truth.json") &&
+        (cmd.only.empty() || e.path().filename() == cmd.only))
+      truths.push_back(e.path() / "truth.json");
+  std::sort(truths.begin(), truths.end());
+  if (truths.empty()) throw IoError(fmt::format("no <name>/truth.json under {}", cmd.suiteDir));
+  const BodyModel model = loadModel(cmd.model, progress);
+
+  json rows = json::array();
+  std::string table = fmt::format(
+      "| preset | rotation ° | joint mean mm | joint max mm (joint) | inside or ≤5 mm % | yaw "
+      "error ° | fit s |{}\n|---|---|---|---|---|---|---|{}\n",
+      cmd.segment ? " garment IoU | boundary mean mm | worst p95 mm |" : "",
+      cmd.segment ? "---|---|---|" : "");
+  for (const fs::path& truthPath : truths) {
+    const std::string name = truthPath.parent_path().filename().string();
+    const Truth truth = readTruth(truthPath);
+    for (const double rotation : cmd.rotations) {
+      progress.message(fmt::format("suite entry {} rotated {}°", name, rotation));
+      json row = {{"preset", name}, {"rotation_degrees", rotation}};
+      try {
+        LoadedScan loaded = loadScan(truthPath.parent_path() / truth.scanFile, {}, progress);
+        const Eigen::Affine3d turn = aboutVertical(loaded.scan.mesh, rotation);
+        loaded.scan.mesh.V = applied(turn, loaded.scan.mesh.V);
+        loaded.scan.toInputFrame = loaded.scan.toInputFrame * turn.inverse();
+        const BodyFromJson trueBody = bodyFromJson(truth.body);
+        const Eigen::MatrixX3d trueCanonical =
+            applied(loaded.scan.toInputFrame.inverse(), trueBody.posed.canonical);
+        const ScanFit fit = fitScan(loaded.scan.mesh, model, {}, &progress);
+        const Eigen::MatrixX3d canonical = fit.canonicalInScanFrame();
+        double sum = 0, worst = 0;
+        int worstJoint = 0;
+        for (int c = 0; c < kNumCanonical; ++c) {
+          const double e = (canonical.row(c) - trueCanonical.row(c)).norm();
+          sum += e;
+          if (e > worst) worst = e, worstJoint = c;
+        }
+        // The yaw that should have been found: the truth faces +Z in the file's frame.
+        double yawError = std::remainder(fit.orientation.yaw + rotation * M_PI / 180, 2 * M_PI);
+        yawError = std::abs(yawError) * 180 / M_PI;
+        row.update({{"joint_mean_mm", 1000 * sum / kNumCanonical},
+                    {"joint_max_mm", 1000 * worst},
+                    {"worst_joint", toString(static_cast<Canonical>(worstJoint))},
+                    {"inside_or_within_5mm", fit.fit.insideOrNear},
+                    {"yaw_error_degrees", yawError},
+                    {"initialisation", fit.initialisation},
+                    {"fit_seconds", fit.seconds},
+                    {"warnings", fit.warnings}});
+        std::string line = fmt::format("| {} | {:.0f} | {:.1f} | {:.1f} ({}) | {:.1f} | {:.1f} | {:.1f} |",
+                                       name, rotation, 1000 * sum / kNumCanonical, 1000 * worst,
+                                       toString(static_cast<Canonical>(worstJoint)),
+                                       100 * fit.fit.insideOrNear, yawError, fit.seconds);
+        const fs::path outDir = fs::path(cmd.out) / fmt::format("{}_{:.0f}", name, rotation);
+        writeFit(outDir / "fit", loaded.scan, model, fit);
+        if (cmd.segment) {
+          SegmentationOptions so;
+          so.boundary.faithful = !cmd.fast;
+          const PosedFeatures body = fittedFeatures(model, fit);
+          const SegmentOutput seg{segmentScan(loaded.scan.mesh, loaded.scan.colour, body.body,
+                                              body.features, so, &progress),
+                                  "curve"};
+          writeSegmentation(outDir / "segment", loaded.scan, seg);
+          const SegmentScore score = scoreSegmentation(truthPath, outDir / "segment");
+          row.update({{"garment_iou", score.evaluation.meanGarmentIoU},
+                      {"boundary_mean_mm", 1000 * score.boundaryMean},
+                      {"worst_p95_mm", 1000 * score.worstP95},
+                      {"layout", toString(seg.segmentation.layout)}});
+          line += fmt::format(" {:.3f} | {:.2f} | {:.2f} |", score.evaluation.meanGarmentIoU,
+                              1000 * score.boundaryMean, 1000 * score.worstP95);
+        }
+        table += line + "\n";
+      } catch (const Error& err) {
+        row["error"] = err.what();
+        table += fmt::format("| {} | {:.0f} | error: {} ||||||\n", name, rotation, err.what());
+      }
+      rows.push_back(row);
+    }
+  }
+  fs::create_directories(cmd.out);
+  writeJson(fs::path(cmd.out) / "fit_suite.json",
+            {{"model", model.source}, {"segment", cmd.segment}, {"rows", rows}});
+  writeFileAtomically(fs::path(cmd.out) / "fit_suite.md", table);
+  fmt::print("{}", table);
+  return 0;
+}
+
+}  // namespace
+
+void addFitCommands(CLI::App& app, Commands& out) {
+  auto o = std::make_shared<FitCommand>();
+  o->out = "fit_out";
+  auto* cmd = app.add_subcommand(
+      "fit",
+      "Fit the body model under the clothes of a scan (paper §4, App. A): facing direction, pose "
+      "initialisation from the scan's extremities, shape and pose by Levenberg-Marquardt keeping "
+      "the body inside the scan, then a non-rigid fit onto the scan surface (§5.1.2)");
+  addFitOptions(cmd, *o);
+  out.push_back({cmd, [o](Progress& progress) { return runFit(*o, progress); }});
+
+  auto r = std::make_shared<RunCommand>();
+  r->fit.out = "run_out";
+  auto* run = app.add_subcommand(
+      "run",
+      "The pipeline on a scan nobody labelled: fit the body, then segment the garments; writes "
+      "OUT/fit/, OUT/segment/ and OUT/report.json");
+  addFitOptions(run, r->fit);
+  run->add_flag("--fast", r->fast, "Fast boundary optimisation (see segment --fast)");
+  out.push_back({run, [r](Progress& progress) { return runRun(*r, progress); }});
+
+  auto s = std::make_shared<FitSuiteCommand>();
+  auto* suite = app.add_subcommand(
+      "fit-suite",
+      "Fit every scan of a bench-suite folder (optionally turned about the vertical, optionally "
+      "segmented with the fitted body) and score it against its truth.json (fit_suite.md, "
+      "fit_suite.json)");
+  suite->add_option("DIR", s->suiteDir, "Folder written by scan2pattern bench-suite")->required();
+  suite->add_option("-o,--output", s->out, "Output folder")->capture_default_str();
+  suite->add_option("--model", s->model, "Body model (see fit --model)")->capture_default_str();
+  suite->add_option("--only", s->only, "Run only the entry of this name");
+  suite->add_option("--rotations", s->rotations,
+                    "Degrees about the vertical to turn each scan by before fitting, e.g. "
+                    "0,90,180,270,37")
+      ->delimiter(',')
+      ->capture_default_str();
+  suite->add_flag("--segment", s->segment,
+                  "Also segment with the fitted body and score the garments (the end-to-end run)");
+  suite->add_flag("--fast", s->fast, "Fast boundary optimisation when segmenting");
+  out.push_back({suite, [s](Progress& progress) { return runFitSuite(*s, progress); }});
+}
+
+}  // namespace s2p::app
