@@ -4,7 +4,8 @@
 #include <memory>
 
 #include "app/commands.h"
-#include "app/segment_output.h"
+#include "app/run_pipeline.h"
+#include "body/body_source.h"
 #include "eval/evaluation_files.h"
 #include "synth/presets.h"
 #include "synth/synthesize.h"
@@ -17,7 +18,7 @@ namespace {
 
 // === demo: the main job on a synthetic clothed scan of the built-in mannequin, as far as the
 // pipeline goes: generated with its ground truth, written, read back, cleaned, normalised,
-// summarised, segmented with its true body (the body fit comes next) and scored.
+// summarised, the body fitted, the garments segmented, and both scored against the truth.
 
 constexpr const char* kDemoPreset = "tshirt_trousers";
 
@@ -33,24 +34,26 @@ int runDemo(const fs::path& outDir, Progress& progress) {
   printInfo(info);
   writeJson(outDir / "info.json", info);
 
-  const PosedFeatures body = poseBodyForScan(synth.truth.body, loaded.scan, progress);
-  const SegmentOutput seg{segmentScan(loaded.scan.mesh, loaded.scan.colour, body.body,
-                                      body.features, {}, &progress),
-                          "curve"};
-  progress.begin("write segmentation");
-  writeSegmentation(outDir / "segment", loaded.scan, seg);
+  // From here on the truth is not used: the body is fitted and the garments segmented as
+  // for any scan (`scan2pattern run`), then the result is scored against the truth.
+  progress.begin("load body model mannequin");
+  const BodyModel model = loadBodyModel("mannequin");
   progress.end();
-  printSegmentation(seg.segmentation);
-  const Evaluation e = evaluate(loadEvaluation(resolveEvaluationFiles(outDir / "truth.json",
-                                                                      outDir / "segment"))
-                                    .input());
+  const RunOutput run = runPipeline(loaded, model, {}, {}, progress);
+  writeRun(outDir, loaded, model, run, progress);
+  printRun(run, outDir);
+  const Evaluation e =
+      evaluate(loadEvaluation(resolveEvaluationFiles(outDir / "truth.json", outDir / "segment",
+                                                     {}, outDir / "fit" / "body.json"))
+                   .input());
   fmt::print("\n{}", formatEvaluation(e));
   fmt::print(
-      "\nwrote {}/: scan.ply (synthetic clothed scan, preset {}, colours and labels), truth.json "
-      "(garments, true boundaries, body), preview_scan.png and preview_labels.png (front, back), "
-      "info.json;\n{}/segment/: segmentation.ply, upper.obj, lower.obj, boundaries.json, "
-      "garments.json, segment_boundaries.png, segment_labels.png\n",
-      outDir.string(), kDemoPreset, outDir.string());
+      "\nwrote {0}/: scan.ply (synthetic clothed scan, preset {1}, colours and labels), "
+      "truth.json (garments, true boundaries, body), preview_scan.png and preview_labels.png "
+      "(front, back), info.json, report.json;\n{0}/fit/: body_fit.obj, body_full.obj, body.json, "
+      "fit_front.png, fit_side.png;\n{0}/segment/: segmentation.ply, upper.obj, lower.obj, "
+      "boundaries.json, garments.json, segment_boundaries.png, segment_labels.png\n",
+      outDir.string(), kDemoPreset);
   return 0;
 }
 

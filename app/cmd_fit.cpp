@@ -4,12 +4,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <memory>
 #include <sstream>
 
 #include "app/commands.h"
 #include "app/fit_output.h"
+#include "app/run_pipeline.h"
 #include "app/segment_output.h"
 #include "body/body_json.h"
 #include "body/body_source.h"
@@ -23,12 +23,6 @@ using nlohmann::json;
 
 namespace s2p::app {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 struct FitCommand {
   std::string scan;
@@ -83,78 +77,14 @@ struct RunCommand {
   bool fast = false;
 };
 
-json segmentationSummary(const Segmentation& s) {
-  json garments = json::array();
-  for (const GarmentPiece& g : s.garments)
-    garments.push_back({{"name", g.name}, {"occluded", g.occluded}, {"faces", g.mesh.numFaces()}});
-  json boundaries = json::array();
-  for (const BoundaryReport& b : s.boundaries)
-    boundaries.push_back({{"name", b.name}, {"iterations", b.iterations},
-                          {"converged", b.converged}, {"curves", b.finalCurves.size()}});
-  return {{"layout", toString(s.layout)},
-          {"one_piece", s.layout == GarmentLayout::OnePiece},
-          {"occlusion", toString(s.occlusion)},
-          {"shoes", s.shoes},
-          {"garments", garments},
-          {"boundaries", boundaries}};
-}
-
 int runRun(const RunCommand& cmd, Progress& progress) {
-  const auto t0 = Clock::now();
-  json stages = json::array();
-  auto timed = [&](const std::string& name, auto&& f) {
-    const auto t = Clock::now();
-    auto r = f();
-    stages.push_back({{"stage", name}, {"seconds", secondsSince(t)}});
-    return r;
-  };
-  const BodyModel model = timed("load body model", [&] { return loadModel(cmd.fit.model, progress); });
-  const LoadedScan loaded = timed("load scan", [&] { return loadScan(cmd.fit.scan, cmd.fit.load, progress); });
-  const ScanFit fit = timed("fit", [&] {
-    return fitScan(loaded.scan.mesh, model, scanFitOptions(cmd.fit), &progress);
-  });
+  const BodyModel model = loadModel(cmd.fit.model, progress);
+  const LoadedScan loaded = loadScan(cmd.fit.scan, cmd.fit.load, progress);
   SegmentationOptions so;
   so.boundary.faithful = !cmd.fast;
-  const SegmentOutput seg = timed("segment", [&] {
-    const PosedFeatures body = fittedFeatures(model, fit);
-    return SegmentOutput{segmentScan(loaded.scan.mesh, loaded.scan.colour, body.body,
-                                     body.features, so, &progress),
-                         "curve"};
-  });
-  // Everything is computed; only now is anything written.
-  const fs::path out = cmd.fit.out;
-  progress.begin("write outputs");
-  writeFit(out / "fit", loaded.scan, model, fit);
-  writeSegmentation(out / "segment", loaded.scan, seg);
-  std::vector<std::string> warnings = loaded.normalize.warnings;
-  for (const auto& w : loaded.read.warnings) warnings.push_back(w);
-  for (const auto& w : fit.warnings) warnings.push_back("fit: " + w);
-  for (const auto& n : seg.segmentation.notes) warnings.push_back("segment: " + n);
-  json fitTimings = json::object();
-  for (const auto& [name, s] : fit.timings) fitTimings[name] = s;
-  const json report = {
-      {"scan", loaded.scan.sourcePath},
-      {"model", model.source},
-      {"stages", stages},
-      {"fit", {{"timings", fitTimings},
-               {"yaw_degrees", fit.orientation.yaw * 180 / M_PI},
-               {"orientation_confidence", fit.orientation.confidence},
-               {"initialisation", fit.initialisation},
-               {"inside_or_within_5mm", fit.fit.insideOrNear}}},
-      {"found", segmentationSummary(seg.segmentation)},
-      {"warnings", warnings},
-      {"seconds", secondsSince(t0)},
-      {"outputs", {{"fit", "fit/: body_fit.obj, body_full.obj, body.json, fit_front.png, "
-                           "fit_side.png"},
-                   {"segment", "segment/: segmentation.ply, " + garmentFileList(seg.segmentation) +
-                                   "garments.json, boundaries.json, segment_boundaries.png, "
-                                   "segment_labels.png"}}}};
-  writeJson(out / "report.json", report);
-  progress.end();
-  printFit(fit);
-  printSegmentation(seg.segmentation);
-  fmt::print("wrote {}/report.json; pictures: {}/fit/fit_front.png, {}/segment/segment_labels.png\n",
-             out.string(), out.string(), out.string());
+  const RunOutput run = runPipeline(loaded, model, scanFitOptions(cmd.fit), so, progress);
+  writeRun(cmd.fit.out, loaded, model, run, progress);
+  printRun(run, cmd.fit.out);
   return 0;
 }
 
@@ -168,6 +98,7 @@ struct FitSuiteCommand {
   std::vector<double> rotations{0};
   bool segment = false;
   bool fast = false;
+  bool noNonrigid = false;
 };
 
 Eigen::Affine3d aboutVertical(const TriMesh& mesh, double degrees) {
@@ -214,7 +145,16 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
         const BodyFromJson trueBody = bodyFromJson(truth.body);
         const Eigen::MatrixX3d trueCanonical =
             applied(loaded.scan.toInputFrame.inverse(), trueBody.posed.canonical);
-        const ScanFit fit = fitScan(loaded.scan.mesh, model, {}, &progress);
+        SegmentationOptions so;
+        so.boundary.faithful = !cmd.fast;
+        ScanFitOptions fo;
+        fo.nonrigid = !cmd.noNonrigid;
+        RunOutput run;
+        if (cmd.segment)
+          run = runPipeline(loaded, model, fo, so, progress);
+        else
+          run.fit = fitScan(loaded.scan.mesh, model, fo, &progress);
+        const ScanFit& fit = run.fit;
         const Eigen::MatrixX3d canonical = fit.canonicalInScanFrame();
         double sum = 0, worst = 0;
         int worstJoint = 0;
@@ -241,12 +181,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
         const fs::path outDir = fs::path(cmd.out) / fmt::format("{}_{:.0f}", name, rotation);
         writeFit(outDir / "fit", loaded.scan, model, fit);
         if (cmd.segment) {
-          SegmentationOptions so;
-          so.boundary.faithful = !cmd.fast;
-          const PosedFeatures body = fittedFeatures(model, fit);
-          const SegmentOutput seg{segmentScan(loaded.scan.mesh, loaded.scan.colour, body.body,
-                                              body.features, so, &progress),
-                                  "curve"};
+          const SegmentOutput& seg = run.segment;
           writeSegmentation(outDir / "segment", loaded.scan, seg);
           const SegmentScore score = scoreSegmentation(truthPath, outDir / "segment");
           row.update({{"garment_iou", score.evaluation.meanGarmentIoU},
@@ -313,6 +248,8 @@ void addFitCommands(CLI::App& app, Commands& out) {
   suite->add_flag("--segment", s->segment,
                   "Also segment with the fitted body and score the garments (the end-to-end run)");
   suite->add_flag("--fast", s->fast, "Fast boundary optimisation when segmenting");
+  suite->add_flag("--no-nonrigid", s->noNonrigid,
+                  "Skip the non-rigid full fit (joint figures do not depend on it)");
   out.push_back({suite, [s](Progress& progress) { return runFitSuite(*s, progress); }});
 }
 

@@ -8,30 +8,12 @@
 #include "core/error.h"
 #include "eval/evaluation.h"
 #include "eval/labelling.h"
-#include "synth/presets.h"
-#include "synth/synthesize.h"
+#include "synth_cases.h"
 
 namespace s2p {
 namespace {
 
-struct Case {
-  SynthScan scan;
-  BodyFromJson body;
-};
-
-const Case& synthCase(const std::string& preset, int vertices) {
-  static std::map<std::string, Case> cache;
-  const std::string key = preset + std::to_string(vertices);
-  auto it = cache.find(key);
-  if (it == cache.end()) {
-    SynthOptions o = presetOptions(preset);
-    o.geometry.targetVertices = vertices;
-    SynthScan s = synthesize(o);
-    BodyFromJson b = bodyFromJson(s.truth.body);
-    it = cache.emplace(key, Case{std::move(s), std::move(b)}).first;
-  }
-  return it->second;
-}
+using Case = SynthCase;
 
 Evaluation score(const Case& c, const Segmentation& seg) {
   const LabelledMesh truth{c.scan.scan.mesh, c.scan.faceLabel};

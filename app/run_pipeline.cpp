@@ -1,0 +1,102 @@
+#include "app/run_pipeline.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "app/fit_output.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace s2p::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+json segmentationSummary(const Segmentation& s) {
+  json garments = json::array();
+  for (const GarmentPiece& g : s.garments)
+    garments.push_back({{"name", g.name}, {"occluded", g.occluded}, {"faces", g.mesh.numFaces()}});
+  json boundaries = json::array();
+  for (const BoundaryReport& b : s.boundaries)
+    boundaries.push_back({{"name", b.name}, {"iterations", b.iterations},
+                          {"converged", b.converged}, {"curves", b.finalCurves.size()}});
+  return {{"layout", toString(s.layout)},
+          {"one_piece", s.layout == GarmentLayout::OnePiece},
+          {"occlusion", toString(s.occlusion)},
+          {"shoes", s.shoes},
+          {"garments", garments},
+          {"boundaries", boundaries}};
+}
+
+}  // namespace
+
+RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
+                      const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
+                      Progress& progress) {
+  RunOutput out;
+  auto t = Clock::now();
+  out.fit = fitScan(scan.scan.mesh, model, fitOptions, &progress);
+  out.stages.emplace_back("fit", secondsSince(t));
+  t = Clock::now();
+  const PosedFeatures body = fittedFeatures(model, out.fit);
+  out.segment = {segmentScan(scan.scan.mesh, scan.scan.colour, body.body, body.features,
+                             segmentOptions, &progress),
+                 "curve"};
+  out.stages.emplace_back("segment", secondsSince(t));
+  return out;
+}
+
+json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& run) {
+  const ScanFit& fit = run.fit;
+  const Segmentation& seg = run.segment.segmentation;
+  std::vector<std::string> warnings = scan.normalize.warnings;
+  for (const auto& w : scan.read.warnings) warnings.push_back(w);
+  for (const auto& w : fit.warnings) warnings.push_back("fit: " + w);
+  for (const auto& n : seg.notes) warnings.push_back("segment: " + n);
+  json stages = json::array();
+  stages.push_back({{"stage", "read"}, {"seconds", scan.read.seconds}});
+  stages.push_back({{"stage", "normalise"}, {"seconds", scan.normalizeSeconds}});
+  for (const auto& [name, s] : run.stages) stages.push_back({{"stage", name}, {"seconds", s}});
+  json fitTimings = json::object();
+  for (const auto& [name, s] : fit.timings) fitTimings[name] = s;
+  return {{"scan", scan.scan.sourcePath},
+          {"model", model.source},
+          {"stages", stages},
+          {"fit", {{"timings", fitTimings},
+                   {"yaw_degrees", fit.orientation.yaw * 180 / M_PI},
+                   {"orientation_confidence", fit.orientation.confidence},
+                   {"initialisation", fit.initialisation},
+                   {"inside_or_within_5mm", fit.fit.insideOrNear}}},
+          {"found", segmentationSummary(seg)},
+          {"warnings", warnings},
+          {"outputs", {{"fit", "fit/: body_fit.obj, body_full.obj, body.json, fit_front.png, "
+                               "fit_side.png"},
+                       {"segment", "segment/: segmentation.ply, " + garmentFileList(seg) +
+                                       "garments.json, boundaries.json, segment_boundaries.png, "
+                                       "segment_labels.png"}}}};
+}
+
+void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& model,
+              const RunOutput& run, Progress& progress) {
+  progress.begin("write outputs");
+  writeFit(dir / "fit", scan.scan, model, run.fit);
+  writeSegmentation(dir / "segment", scan.scan, run.segment);
+  writeJson(dir / "report.json", runReport(scan, model, run));
+  progress.end();
+}
+
+void printRun(const RunOutput& run, const fs::path& dir) {
+  printFit(run.fit);
+  printSegmentation(run.segment.segmentation);
+  fmt::print("wrote {0}/report.json; pictures: {0}/fit/fit_front.png, {0}/fit/fit_side.png, "
+             "{0}/segment/segment_boundaries.png, {0}/segment/segment_labels.png\n",
+             dir.string());
+}
+
+}  // namespace s2p::app
