@@ -58,8 +58,8 @@ ScanFitOptions scanFitOptions(const FitCommand& cmd) {
 }
 
 int runFit(const FitCommand& cmd, Progress& progress) {
-  const BodyModel model = loadModel(cmd.model, progress);
   const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
+  const BodyModel model = loadModel(cmd.model, progress);
   const ScanFit fit = fitScan(loaded.scan.mesh, model, scanFitOptions(cmd), &progress);
   progress.begin("write outputs");
   writeFit(cmd.out, loaded.scan, model, fit);
@@ -78,8 +78,8 @@ struct RunCommand {
 };
 
 int runRun(const RunCommand& cmd, Progress& progress) {
-  const BodyModel model = loadModel(cmd.fit.model, progress);
   const LoadedScan loaded = loadScan(cmd.fit.scan, cmd.fit.load, progress);
+  const BodyModel model = loadModel(cmd.fit.model, progress);
   SegmentationOptions so;
   so.boundary.faithful = !cmd.fast;
   const RunOutput run = runPipeline(loaded, model, scanFitOptions(cmd.fit), so, progress);
