@@ -1,7 +1,7 @@
 // Facing direction of a standing person about the vertical (paper §3 assumes a scan facing +Z;
 // ours may be turned by any angle). Geometry only: the lateral axis from the shape of the
 // torso (a body is wider than deep), its sign from robust cues voting together (the feet point
-// forward, the nose and chest stick out in front, the buttocks and heels behind).
+// forward of their own shins, the nose and chest stick out in front, the buttocks behind).
 #pragma once
 
 #include <Eigen/Core>

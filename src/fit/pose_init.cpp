@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <queue>
 #include <string>
+#include <unordered_map>
 
 #include "body/posing.h"
 #include "core/error.h"
@@ -171,30 +173,38 @@ Extremities findExtremities(const TriMesh& scan, const BodyModel& model,
   const BoundingBox box = boundingBox(scan.V);
   const double H = box.extent().y(), y0 = box.min.y();
 
-  // Seeds: the torso's ring at waist height (vertices near the torso axis only, not the arms),
-  // about as far from the head top as from the crotch.
-  std::vector<int> slabV;
-  std::vector<double> xs, zs;
+  // Seeds: the torso's band at waist height. The band may also cut an arm (arms down or in an
+  // A-pose) or a hand, so it is split into connected pieces and the one with the largest area,
+  // the torso, is kept (a vertex median can land on an arm when the arm is finely meshed).
+  std::vector<char> inSlab(scan.numVertices(), 0);
   for (int v = 0; v < scan.numVertices(); ++v) {
     const double h = (scan.V(v, 1) - y0) / H;
-    if (h >= 0.57 && h <= 0.63) {
-      slabV.push_back(v);
-      xs.push_back(scan.V(v, 0));
-      zs.push_back(scan.V(v, 2));
-    }
+    inSlab[v] = h >= 0.57 && h <= 0.63;
   }
-  if (slabV.empty())
-    throw InputError("pose initialisation: the scan has no surface at chest height");
-  auto median = [](std::vector<double> a) {
-    std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
-    return a[a.size() / 2];
+  std::vector<int> parent(scan.numVertices());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
   };
-  const double cx = median(xs), cz = median(zs);
-  const double radius = 0.13 * H / 1.75;
+  const Eigen::VectorXd areas = faceAreas(scan);
+  for (int f = 0; f < scan.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = scan.F(f, k), b = scan.F(f, (k + 1) % 3);
+      if (inSlab[a] && inSlab[b]) parent[find(a)] = find(b);
+    }
+  std::unordered_map<int, double> pieceArea;
+  for (int f = 0; f < scan.numFaces(); ++f)
+    if (inSlab[scan.F(f, 0)] && inSlab[scan.F(f, 1)] && inSlab[scan.F(f, 2)])
+      pieceArea[find(scan.F(f, 0))] += areas[f];
+  if (pieceArea.empty())
+    throw InputError("pose initialisation: the scan has no surface at waist height");
+  const int torso = std::max_element(pieceArea.begin(), pieceArea.end(), [](auto& a, auto& b) {
+                      return a.second < b.second;
+                    })->first;
   std::vector<int> seeds;
-  for (int v : slabV)
-    if (std::hypot(scan.V(v, 0) - cx, scan.V(v, 2) - cz) < radius) seeds.push_back(v);
-  if (seeds.empty()) seeds = slabV;
+  for (int v = 0; v < scan.numVertices(); ++v)
+    if (inSlab[v] && find(v) == torso) seeds.push_back(v);
 
   // Geodesic farthest points from the torso: five extremities.
   const Graph g = buildGraph(scan);

@@ -53,6 +53,22 @@ TEST(Orientation, FeetPointForward) {
   EXPECT_GT(o.cues[0].vote, 0.01);  // the sole's centroid lies > 1 cm ahead of the ankle's
 }
 
+// A long walking stride, the back foot's heel lifted: each foot still reaches farther in front
+// of its own shin than behind it, although the back foot's sole lies behind the front ankle.
+TEST(Orientation, FeetPointForwardInALongStride) {
+  const BodyModel& m = test::smallMannequin();
+  BodyParams p = test::testParams(m, TestPose::Rest);
+  p.pose.axisAngle(m.jointIndex("left_hip"), 0) = -0.5;  // left leg forward
+  p.pose.axisAngle(m.jointIndex("right_hip"), 0) = 0.45;  // right leg back
+  p.pose.axisAngle(m.jointIndex("right_knee"), 0) = 0.5;
+  const TriMesh body = poseBody(m, p).mesh;
+  for (const double degrees : {0.0, 180.0}) {
+    const Orientation o = estimateOrientation(rotateAboutVertical(body, degrees * std::numbers::pi / 180));
+    EXPECT_LT(angleDiffDeg(o.yaw, -degrees * std::numbers::pi / 180), 10.0) << degrees;
+    EXPECT_GT(o.cues[0].vote, 0.03) << degrees;
+  }
+}
+
 TEST(Orientation, RefusesPersonLyingDown) {
   TriMesh lying = posed(TestPose::Rest);
   const Eigen::Matrix3d R =
