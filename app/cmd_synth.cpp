@@ -34,6 +34,7 @@ struct SynthArgs {
 struct SuiteArgs {
   std::string suite = "bench/suite.json";
   bool skipScaling = false;
+  std::string model;  // replaces every entry's body source when set
   bool noPreviews = false;
   std::string only;
   std::string outDir;
@@ -121,7 +122,14 @@ int runSuite(const SuiteArgs& a, Progress& progress) {
   int generated = 0;
   for (const SuiteEntry& e : entries) {
     if ((a.skipScaling && e.scaling) || (!a.only.empty() && e.name != a.only)) continue;
-    const SynthOptions o = e.options();
+    SynthOptions o = e.options();
+    if (!a.model.empty() && a.model != o.bodySource) {
+      if (!o.shape.empty())
+        progress.message("note: entry " + e.name + "'s body shape (" + o.shape +
+                         ") is in mannequin parameters; " + a.model + " keeps its mean shape");
+      o.shape.clear();
+      o.bodySource = a.model;
+    }
     if (!models.count(o.bodySource)) models.emplace(o.bodySource, loadBodyModel(o.bodySource));
     progress.message(fmt::format("suite entry {} (preset {}, seed {}, {} vertices)", e.name,
                                  e.preset, e.seed, o.geometry.targetVertices));
@@ -205,6 +213,8 @@ void addSynthCommands(CLI::App& app, Commands& out) {
   suite->add_option("--suite", ua->suite, "Suite file")->capture_default_str();
   suite->add_flag("--skip-scaling", ua->skipScaling, "Leave out the 200k and 1M scaling entries");
   suite->add_option("--only", ua->only, "Generate only the entry of this name");
+  suite->add_option("--model", ua->model,
+                    "Body source for every entry instead of the suite's (e.g. mpfb2:DIR)");
   suite->add_flag("--no-previews", ua->noPreviews, "Skip the preview PNGs");
   suite->add_option("-o,--output", ua->outDir, "Output folder")->required();
   out.push_back({suite, [ua](Progress& progress) { return runSuite(*ua, progress); }});

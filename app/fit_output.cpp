@@ -5,6 +5,7 @@
 #include "app/commands.h"
 #include "body/body_json.h"
 #include "body/measurements.h"
+#include "core/error.h"
 #include "export/preview.h"
 #include "io/write_mesh.h"
 
@@ -40,7 +41,14 @@ json fitBodyJson(const BodyModel& model, const ScanFit& fit, const Scan& scan) {
                                            toFile.matrix()(r, 2), toFile.matrix()(r, 3)});
   j["to_scan_file"] = m;
   j["full_mesh"] = "body_full.obj";
-  j["measurements"] = toJson(measureRestBody(model, fit.fit.params.shape));
+  std::vector<std::string> warnings = fit.warnings;
+  try {
+    j["measurements"] = toJson(measureRestBody(model, fit.fit.params.shape));
+  } catch (const InputError& e) {
+    // A tape measure failing on an unusual shape does not make the fit wrong.
+    j["measurements"] = nullptr;
+    warnings.push_back(std::string("no measurements: ") + e.what());
+  }
   json stages = json::array();
   for (const FitStageReport& s : fit.fit.stages)
     stages.push_back({{"name", s.name}, {"cycle", s.cycle}, {"seconds", s.seconds},
@@ -59,7 +67,7 @@ json fitBodyJson(const BodyModel& model, const ScanFit& fit, const Scan& scan) {
               {"seconds", fit.seconds},
               {"timings", timings},
               {"stages", stages},
-              {"warnings", fit.warnings},
+              {"warnings", warnings},
               {"frame", "joints, canonical and to_scan_file: the scan file's frame and units; "
                         "shape, pose and translation: the body model's frame"}};
   return j;
