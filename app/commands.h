@@ -33,6 +33,7 @@ void addDemoCommand(CLI::App& app, Commands& out);   // demo
 void addEvalCommand(CLI::App& app, Commands& out);   // eval
 void addSynthCommands(CLI::App& app, Commands& out);  // synth, bench-suite
 void addSegmentCommand(CLI::App& app, Commands& out);  // segment, segment-suite
+void addRenderViewsCommand(CLI::App& app, Commands& out);  // render-views
 
 // === Shared: read + clean + normalise, as every command that takes a SCAN does.
 

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   app::addEvalCommand(app, commands);
   app::addSynthCommands(app, commands);
   app::addSegmentCommand(app, commands);
+  app::addRenderViewsCommand(app, commands);
 
   try {
     app.parse(argc, argv);
