@@ -30,7 +30,8 @@ void parseSize(const std::string& text, CameraRigOptions& rig) {
   static const std::regex re(R"((\d{1,5})[xX](\d{1,5}))");
   std::smatch m;
   if (!std::regex_match(text, m, re))
-    throw CLI::ValidationError("--size", "'" + text + "': give WIDTHxHEIGHT in pixels, e.g. 800x600");
+    throw CLI::ValidationError("--size",
+                               "'" + text + "': give WIDTHxHEIGHT in pixels, e.g. 800x600");
   rig.width = std::stoi(m[1]);
   rig.height = std::stoi(m[2]);
   if (rig.width < 16 || rig.height < 16 || rig.width > 8192 || rig.height > 8192)

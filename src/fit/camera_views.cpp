@@ -17,7 +17,8 @@ constexpr double kNearPlane = 0.01;  // metres in front of the camera
 
 void checkOptions(const CameraRigOptions& o) {
   const auto bad = [](const std::string& m) { throw InputError("camera rig: " + m); };
-  if (o.numViews < 1 || o.numViews > 360) bad(fmt::format("numViews {} not in [1, 360]", o.numViews));
+  if (o.numViews < 1 || o.numViews > 360)
+    bad(fmt::format("numViews {} not in [1, 360]", o.numViews));
   if (o.width < 16 || o.width > 8192 || o.height < 16 || o.height > 8192)
     bad(fmt::format("image size {}×{} not in [16, 8192]²", o.width, o.height));
   if (!(o.verticalFovDegrees > 1 && o.verticalFovDegrees < 170))
@@ -49,12 +50,14 @@ nlohmann::json rows(const Eigen::MatrixXd& m) {
 }
 
 std::string xmlMatrix(const char* name, const Eigen::MatrixXd& m) {
-  std::string s = fmt::format("<{} type_id=\"opencv-matrix\">\n  <rows>{}</rows>\n  <cols>{}</cols>\n"
-                              "  <dt>d</dt>\n  <data>",
-                              name, m.rows(), m.cols());
+  std::string s = fmt::format(
+      "<{} type_id=\"opencv-matrix\">\n  <rows>{}</rows>\n  <cols>{}</cols>\n"
+      "  <dt>d</dt>\n  <data>",
+      name, m.rows(), m.cols());
   for (Eigen::Index r = 0; r < m.rows(); ++r) {
     s += "\n   ";
-    for (Eigen::Index c = 0; c < m.cols(); ++c) s += fmt::format(" {:.17g}", m(r, c) == 0 ? 0.0 : m(r, c));
+    for (Eigen::Index c = 0; c < m.cols(); ++c)
+      s += fmt::format(" {:.17g}", m(r, c) == 0 ? 0.0 : m(r, c));
   }
   return s + "</data></" + name + ">\n";
 }
@@ -70,7 +73,8 @@ std::vector<PinholeCamera> cameraRig(const Eigen::Vector3d& target,
                                      const CameraRigOptions& options) {
   checkOptions(options);
   if (!target.allFinite()) throw InputError("camera rig: the target point is not finite");
-  const double f = 0.5 * options.height / std::tan(0.5 * options.verticalFovDegrees * std::numbers::pi / 180);
+  const double f =
+      0.5 * options.height / std::tan(0.5 * options.verticalFovDegrees * std::numbers::pi / 180);
   Eigen::Matrix3d K;
   K << f, 0, 0.5 * (options.width - 1), 0, f, 0.5 * (options.height - 1), 0, 0, 1;
   std::vector<PinholeCamera> out;
@@ -80,8 +84,8 @@ std::vector<PinholeCamera> cameraRig(const Eigen::Vector3d& target,
     PinholeCamera cam;
     cam.K = K;
     cam.R.row(0) = Eigen::RowVector3d(std::cos(a), 0, -std::sin(a));  // image right
-    cam.R.row(1) = Eigen::RowVector3d(0, -1, 0);                        // image down
-    cam.R.row(2) = -back.transpose();                                  // forward
+    cam.R.row(1) = Eigen::RowVector3d(0, -1, 0);                      // image down
+    cam.R.row(2) = -back.transpose();                                 // forward
     cam.t = -cam.R * (target + options.distance * back);
     cam.width = options.width;
     cam.height = options.height;
@@ -121,12 +125,15 @@ Image renderPinhole(const TriMesh& mesh, const PinholeCamera& camera,
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
     if (!front[a] || !front[b] || !front[c]) continue;
-    const Eigen::Vector2d pa = screen.row(a).head<2>(), pb = screen.row(b).head<2>(),
-                          pc = screen.row(c).head<2>();
+    const Eigen::Vector2d pa = screen.row(a).head<2>().transpose(),
+                          pb = screen.row(b).head<2>().transpose(),
+                          pc = screen.row(c).head<2>().transpose();
     const double area = (pb - pa).x() * (pc - pa).y() - (pb - pa).y() * (pc - pa).x();
     if (!(std::abs(area) > 1e-12)) continue;
-    const double minX = std::min({pa.x(), pb.x(), pc.x()}), maxX = std::max({pa.x(), pb.x(), pc.x()});
-    const double minY = std::min({pa.y(), pb.y(), pc.y()}), maxY = std::max({pa.y(), pb.y(), pc.y()});
+    const double minX = std::min({pa.x(), pb.x(), pc.x()}),
+                 maxX = std::max({pa.x(), pb.x(), pc.x()});
+    const double minY = std::min({pa.y(), pb.y(), pc.y()}),
+                 maxY = std::max({pa.y(), pb.y(), pc.y()});
     const int x0 = std::max(0, static_cast<int>(std::ceil(minX)));
     const int x1 = std::min(W - 1, static_cast<int>(std::floor(maxX)));
     const int y0 = std::max(0, static_cast<int>(std::ceil(minY)));
@@ -222,8 +229,9 @@ std::string cameraToOpenCvXml(const PinholeCamera& camera) {
   Eigen::Matrix<double, 3, 4> Rt;
   Rt << camera.R, camera.t;
   std::string s = "<?xml version=\"1.0\"?>\n<opencv_storage>\n";
-  s += fmt::format("<!-- scan2pattern render-views: {}x{} px, translation in the scan file's units -->\n",
-                   camera.width, camera.height);
+  s += fmt::format(
+      "<!-- scan2pattern render-views: {}x{} px, translation in the scan file's units -->\n",
+      camera.width, camera.height);
   s += xmlMatrix("CameraMatrix", Rt);
   s += xmlMatrix("Intrinsics", camera.K);
   s += xmlMatrix("Distortion", Eigen::Matrix<double, 5, 1>::Zero());

@@ -33,21 +33,22 @@ struct PinholeCamera {
 };
 
 struct CameraRigOptions {
-  int numViews = 7;                 // cameras evenly spaced on the circle
-  double firstAngle = 0.2;          // radians about +Y; angle 0 puts the camera on +Z (front)
-  double distance = 4.5;            // metres from the scan's bounding-box centre
-  int width = 800, height = 600;    // pixels, each in [16, 8192]
-  double verticalFovDegrees = 35;   // in (1, 170)
-  int supersample = 2;              // samples per pixel along each axis, in [1, 4]
-  std::uint8_t background = 255;    // grey level of empty pixels
-  std::uint8_t surface = 200;       // grey level of a surface lit head-on (Lambert, headlight)
-  double ambient = 0.25;            // fraction of `surface` on a surface seen edge-on, in [0, 1]
+  int numViews = 7;                // cameras evenly spaced on the circle
+  double firstAngle = 0.2;         // radians about +Y; angle 0 puts the camera on +Z (front)
+  double distance = 4.5;           // metres from the scan's bounding-box centre
+  int width = 800, height = 600;   // pixels, each in [16, 8192]
+  double verticalFovDegrees = 35;  // in (1, 170)
+  int supersample = 2;             // samples per pixel along each axis, in [1, 4]
+  std::uint8_t background = 255;   // grey level of empty pixels
+  std::uint8_t surface = 200;      // grey level of a surface lit head-on (Lambert, headlight)
+  double ambient = 0.25;           // fraction of `surface` on a surface seen edge-on, in [0, 1]
 };
 
 // The rig's cameras in the scan's normalised frame (metres, +Y up) around `target`: camera k at
 // angle a_k = firstAngle + 2πk/numViews sits at target + distance·(sin a_k, 0, cos a_k), looks
 // at `target` with the image's up along +Y. Throws InputError on out-of-range options.
-std::vector<PinholeCamera> cameraRig(const Eigen::Vector3d& target, const CameraRigOptions& options);
+std::vector<PinholeCamera> cameraRig(const Eigen::Vector3d& target,
+                                     const CameraRigOptions& options);
 
 // Renders `mesh` through `camera` (z-buffer, perspective-correct, smooth normals, two-sided
 // Lambert with a headlight): width×height grey RGB pixels. Faces with a corner closer than 1 cm

@@ -17,25 +17,36 @@ namespace {
 using nlohmann::json;
 
 constexpr std::array<const char*, kBody25Count> kBody25Names = {
-    "Nose",   "Neck",   "RShoulder", "RElbow",    "RWrist",    "LShoulder", "LElbow",
-    "LWrist", "MidHip", "RHip",      "RKnee",     "RAnkle",    "LHip",      "LKnee",
-    "LAnkle", "REye",   "LEye",      "REar",      "LEar",      "LBigToe",   "LSmallToe",
-    "LHeel",  "RBigToe", "RSmallToe", "RHeel"};
+    "Nose", "Neck",    "RShoulder", "RElbow", "RWrist",  "LShoulder", "LElbow", "LWrist", "MidHip",
+    "RHip", "RKnee",   "RAnkle",    "LHip",   "LKnee",   "LAnkle",    "REye",   "LEye",   "REar",
+    "LEar", "LBigToe", "LSmallToe", "LHeel",  "RBigToe", "RSmallToe", "RHeel"};
 
 // BODY_25 index → canonical point (−1: none). OpenPose's L/R are the person's own sides, as ours.
 constexpr std::array<int, kBody25Count> kBody25Canonical = {
-    static_cast<int>(Canonical::Nose),          static_cast<int>(Canonical::Neck),
-    static_cast<int>(Canonical::RightShoulder), static_cast<int>(Canonical::RightElbow),
-    static_cast<int>(Canonical::RightWrist),    static_cast<int>(Canonical::LeftShoulder),
-    static_cast<int>(Canonical::LeftElbow),     static_cast<int>(Canonical::LeftWrist),
-    static_cast<int>(Canonical::Pelvis),        static_cast<int>(Canonical::RightHip),
-    static_cast<int>(Canonical::RightKnee),     static_cast<int>(Canonical::RightAnkle),
-    static_cast<int>(Canonical::LeftHip),       static_cast<int>(Canonical::LeftKnee),
-    static_cast<int>(Canonical::LeftAnkle),     -1,
-    -1,                                         -1,
-    -1,                                         static_cast<int>(Canonical::LeftToeTip),
-    -1,                                         static_cast<int>(Canonical::LeftHeel),
-    static_cast<int>(Canonical::RightToeTip),   -1,
+    static_cast<int>(Canonical::Nose),
+    static_cast<int>(Canonical::Neck),
+    static_cast<int>(Canonical::RightShoulder),
+    static_cast<int>(Canonical::RightElbow),
+    static_cast<int>(Canonical::RightWrist),
+    static_cast<int>(Canonical::LeftShoulder),
+    static_cast<int>(Canonical::LeftElbow),
+    static_cast<int>(Canonical::LeftWrist),
+    static_cast<int>(Canonical::Pelvis),
+    static_cast<int>(Canonical::RightHip),
+    static_cast<int>(Canonical::RightKnee),
+    static_cast<int>(Canonical::RightAnkle),
+    static_cast<int>(Canonical::LeftHip),
+    static_cast<int>(Canonical::LeftKnee),
+    static_cast<int>(Canonical::LeftAnkle),
+    -1,
+    -1,
+    -1,
+    -1,
+    static_cast<int>(Canonical::LeftToeTip),
+    -1,
+    static_cast<int>(Canonical::LeftHeel),
+    static_cast<int>(Canonical::RightToeTip),
+    -1,
     static_cast<int>(Canonical::RightHeel)};
 
 void checkTransform(const Eigen::Affine3d& t, std::string_view what) {
@@ -45,7 +56,8 @@ void checkTransform(const Eigen::Affine3d& t, std::string_view what) {
 
 std::string usable(const std::vector<JointTarget>& targets) {
   std::string names;
-  for (const JointTarget& t : targets) names += std::string(names.empty() ? "" : ", ") + toString(t.joint);
+  for (const JointTarget& t : targets)
+    names += std::string(names.empty() ? "" : ", ") + toString(t.joint);
   return names.empty() ? "none" : names;
 }
 
@@ -77,8 +89,7 @@ std::vector<JointTarget> openPoseTargets(const json& doc, const Eigen::Affine3d&
         "scan, or use the geometric pose initialisation (no --keypoints)",
         what));
   const json& person = people[0];
-  if (!person.is_object())
-    throw FormatError(fmt::format("{}: people[0] must be an object", what));
+  if (!person.is_object()) throw FormatError(fmt::format("{}: people[0] must be an object", what));
   const auto it = person.find("pose_keypoints_3d");
   if (it == person.end() || (it->is_array() && it->empty())) {
     if (person.contains("pose_keypoints_2d"))
@@ -95,7 +106,8 @@ std::vector<JointTarget> openPoseTargets(const json& doc, const Eigen::Affine3d&
   for (std::size_t i = 0; i < it->size(); ++i) {
     const json& v = (*it)[i];
     if (!v.is_number())
-      throw FormatError(fmt::format("{}: people[0].pose_keypoints_3d[{}] is not a number", what, i));
+      throw FormatError(
+          fmt::format("{}: people[0].pose_keypoints_3d[{}] is not a number", what, i));
     flat.push_back(v.get<double>());
   }
   return body25Targets(flat, toNorm, what);
@@ -110,8 +122,8 @@ std::vector<JointTarget> mapTargets(const json& joints, const Eigen::Affine3d& t
   for (const auto& [name, value] : joints.items()) {
     const std::optional<Canonical> c = parseCanonical(name);
     if (!c)
-      throw InputError(fmt::format("{}: unknown joint name '{}'; use one of: {}", what, name,
-                                   canonicalNames()));
+      throw InputError(
+          fmt::format("{}: unknown joint name '{}'; use one of: {}", what, name, canonicalNames()));
     if (seen[static_cast<int>(*c)])
       throw InputError(fmt::format("{}: joint '{}' is given twice", what, name));
     seen[static_cast<int>(*c)] = true;
@@ -120,9 +132,8 @@ std::vector<JointTarget> mapTargets(const json& joints, const Eigen::Affine3d& t
       continue;
     }
     if (!value.is_array() || (value.size() != 3 && value.size() != 4))
-      throw FormatError(fmt::format(
-          "{}: joint '{}' must be [x, y, z] or [x, y, z, weight], got {}", what, name,
-          value.dump().substr(0, 80)));
+      throw FormatError(fmt::format("{}: joint '{}' must be [x, y, z] or [x, y, z, weight], got {}",
+                                    what, name, value.dump().substr(0, 80)));
     Eigen::Vector4d p(0, 0, 0, 1);
     for (std::size_t k = 0; k < value.size(); ++k) {
       if (!value[k].is_number())
@@ -174,11 +185,11 @@ std::vector<JointTarget> body25Targets(const std::vector<double>& flat,
   for (int i = 0; i < kBody25Count; ++i) {
     const Eigen::Vector4d row(flat[4 * i], flat[4 * i + 1], flat[4 * i + 2], flat[4 * i + 3]);
     if (!row.allFinite())
-      throw FormatError(fmt::format("{}: keypoint {} ({}) has a non-finite value", what, i,
-                                    body25Name(i)));
-    if (row(3) < 0)
       throw FormatError(
-          fmt::format("{}: keypoint {} ({}) has a negative score {}", what, i, body25Name(i), row(3)));
+          fmt::format("{}: keypoint {} ({}) has a non-finite value", what, i, body25Name(i)));
+    if (row(3) < 0)
+      throw FormatError(fmt::format("{}: keypoint {} ({}) has a negative score {}", what, i,
+                                    body25Name(i), row(3)));
     const std::optional<Canonical> c = body25ToCanonical(i);
     if (!c) continue;
     if (row(3) == 0) {  // not detected: OpenPose writes zeros, which are no position
@@ -197,9 +208,10 @@ std::vector<JointTarget> readKeypoints(const std::filesystem::path& path,
   checkTransform(fileToNormalised, what);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw IoError(fmt::format("{}: no such file (give the JSON OpenPose wrote with --write_json, "
-                              "or a joint-name → [x, y, z] map)",
-                              what));
+    throw IoError(
+        fmt::format("{}: no such file (give the JSON OpenPose wrote with --write_json, "
+                    "or a joint-name → [x, y, z] map)",
+                    what));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(fmt::format("{}: cannot be opened for reading", what));
   std::ostringstream bytes;

@@ -67,7 +67,8 @@ TEST(RenderViewsCli, WritesSevenViewsAndTheirCameras) {
 TEST(RenderViewsCli, SizeOptionAndRefusals) {
   test::TempDir dir;
   const fs::path scan = writeBlob(dir);
-  CliRun r = test::runCli("-q render-views " + q(scan) + " -o " + q(dir / "small") + " --size 160x120");
+  CliRun r =
+      test::runCli("-q render-views " + q(scan) + " -o " + q(dir / "small") + " --size 160x120");
   ASSERT_EQ(r.code, 0) << r.out;
   const Image img = readPng(dir / "small" / "view_3.png");
   EXPECT_EQ(img.width, 160);

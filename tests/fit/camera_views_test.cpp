@@ -54,10 +54,12 @@ TEST(CameraViews, RigAimsAtTheCentreFromTheRightDistance) {
     EXPECT_LT((c.R * c.R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
     EXPECT_NEAR(c.R.determinant(), 1, 1e-12);
     const double a = 0.2 + 2 * std::numbers::pi * k / 7;
-    EXPECT_LT((c.centre() - target - 4.5 * Eigen::Vector3d(std::sin(a), 0, std::cos(a))).norm(), 1e-12);
+    EXPECT_LT((c.centre() - target - 4.5 * Eigen::Vector3d(std::sin(a), 0, std::cos(a))).norm(),
+              1e-12);
     // Vertical FOV 35°: a point at the half angle above the target reaches the top edge (−0.5).
     const Eigen::Vector3d top = target + (c.centre() - target).norm() *
-                                             std::tan(17.5 * std::numbers::pi / 180) * Eigen::Vector3d::UnitY();
+                                             std::tan(17.5 * std::numbers::pi / 180) *
+                                             Eigen::Vector3d::UnitY();
     EXPECT_NEAR(c.project(top).y(), -0.5, 1e-9) << k;
     // Image up is +Y, and the camera sees the world upright.
     EXPECT_LT(c.project(target + 0.1 * Eigen::Vector3d::UnitY()).y(), px.y());
@@ -93,8 +95,8 @@ TEST(CameraViews, RendersCoverTheScanAndLeaveTheBackgroundEmpty) {
     ASSERT_EQ(v.image.height, 600);
     // The centre pixel sees the blob's body: lit grey, not the white background.
     const Eigen::Vector2d px = v.camera.project(c);
-    const std::uint8_t centre = grey(v.image, static_cast<int>(std::lround(px.x())),
-                                     static_cast<int>(std::lround(px.y())));
+    const std::uint8_t centre =
+        grey(v.image, static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y())));
     EXPECT_LT(centre, 210);
     EXPECT_GT(centre, 100);
     // Corners and a point 1.2 m to the side of the blob are background.
@@ -131,7 +133,8 @@ TEST(CameraViews, NearerSurfaceHidesTheFartherOne) {
   near.V.col(2).setConstant(0.5);
   far.V.col(0).array() -= 1;
   far.V.col(1).array() -= 1;
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(std::numbers::pi / 3, Eigen::Vector3d::UnitY()).matrix();
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(std::numbers::pi / 3, Eigen::Vector3d::UnitY()).matrix();
   far.V = (far.V * turn.transpose()).rowwise() + Eigen::RowVector3d(0, 0, -0.5);
   TriMesh both;
   both.V.resize(8, 3);
@@ -160,7 +163,10 @@ TEST(CameraViews, NearerSurfaceHidesTheFartherOne) {
 
 // Parses <Name ...>...<data> numbers </data></Name> from OpenCV XML.
 Eigen::MatrixXd xmlMatrix(const std::string& xml, const std::string& name) {
-  const std::regex re("<" + name + R"( type_id="opencv-matrix">\s*<rows>(\d+)</rows>\s*<cols>(\d+)</cols>\s*<dt>d</dt>\s*<data>([^<]*)</data></)" + name + ">");
+  const std::regex re(
+      "<" + name +
+      R"( type_id="opencv-matrix">\s*<rows>(\d+)</rows>\s*<cols>(\d+)</cols>\s*<dt>d</dt>\s*<data>([^<]*)</data></)" +
+      name + ">");
   std::smatch m;
   EXPECT_TRUE(std::regex_search(xml, m, re)) << name;
   if (m.empty()) return {};
@@ -173,7 +179,8 @@ Eigen::MatrixXd xmlMatrix(const std::string& xml, const std::string& name) {
   return out;
 }
 
-Eigen::Vector2d projectWith(const Eigen::Matrix3d& K, const Eigen::MatrixXd& Rt, const Eigen::Vector3d& p) {
+Eigen::Vector2d projectWith(const Eigen::Matrix3d& K, const Eigen::MatrixXd& Rt,
+                            const Eigen::Vector3d& p) {
   const Eigen::Vector3d h = K * (Rt.leftCols<3>() * p + Rt.col(3));
   return h.head<2>() / h.z();
 }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -33,7 +34,8 @@ json body25(const std::vector<int>& zero = {}) {
   return {{"version", 1.3}, {"people", {{{"person_id", {-1}}, {"pose_keypoints_3d", flat}}}}};
 }
 
-std::filesystem::path put(const test::TempDir& dir, const std::string& name, const std::string& text) {
+std::filesystem::path put(const test::TempDir& dir, const std::string& name,
+                          const std::string& text) {
   test::writeFile(dir / name, text);
   return dir / name;
 }
@@ -62,12 +64,11 @@ TEST(Keypoints, Body25NamesAndMapping) {
 
 TEST(Keypoints, MapRoundTrips) {
   test::TempDir dir;
-  const std::map<Canonical, Eigen::Vector3d> truth = {
-      {Canonical::LeftWrist, {0.7, 1.0, 0.05}},
-      {Canonical::RightWrist, {-0.7, 1.0, 0.05}},
-      {Canonical::Head, {0, 1.6, 0}},
-      {Canonical::LeftAnkle, {0.1, 0.08, 0}},
-      {Canonical::RightAnkle, {-0.1, 0.08, 0}}};
+  const std::map<Canonical, Eigen::Vector3d> truth = {{Canonical::LeftWrist, {0.7, 1.0, 0.05}},
+                                                      {Canonical::RightWrist, {-0.7, 1.0, 0.05}},
+                                                      {Canonical::Head, {0, 1.6, 0}},
+                                                      {Canonical::LeftAnkle, {0.1, 0.08, 0}},
+                                                      {Canonical::RightAnkle, {-0.1, 0.08, 0}}};
   json j;
   for (const auto& [c, p] : truth) j[toString(c)] = {p.x(), p.y(), p.z()};
   for (const json& doc : {j, json{{"joints", j}}}) {
@@ -115,7 +116,9 @@ TEST(Keypoints, OpenPoseRowsMapToCanonicalJointsAndZeroRowsAreDropped) {
   }
   // Nothing lands at the origin: a zero row never becomes a target.
   for (const JointTarget& t : targets)
-    if (t.joint != Canonical::Nose) EXPECT_GT(t.position.norm(), 0.5) << toString(t.joint);
+    if (t.joint != Canonical::Nose) {
+      EXPECT_GT(t.position.norm(), 0.5) << toString(t.joint);
+    }
 }
 
 TEST(Keypoints, TransformIsApplied) {
@@ -146,7 +149,9 @@ TEST(Keypoints, TransformIsApplied) {
 TEST(Keypoints, BadFilesThrowTheirTypes) {
   test::TempDir dir;
   const Eigen::Affine3d id = Eigen::Affine3d::Identity();
-  const auto read = [&](const std::string& text) { return readKeypoints(put(dir, "bad.json", text), id); };
+  const auto read = [&](const std::string& text) {
+    return readKeypoints(put(dir, "bad.json", text), id);
+  };
   EXPECT_THROW(readKeypoints(dir / "missing.json", id), IoError);
   EXPECT_THROW(readKeypoints(dir.path(), id), IoError);  // a folder
   try {
@@ -158,13 +163,18 @@ TEST(Keypoints, BadFilesThrowTheirTypes) {
   EXPECT_THROW(read("{ not json"), FormatError);
   EXPECT_THROW(read("[1, 2, 3]"), FormatError);
   EXPECT_THROW(read(R"({"joints": [1, 2]})"), FormatError);
-  EXPECT_THROW(read(R"({"head": [0, 1], "pelvis": [0,0,0], "left_knee": [0,0,0], "right_knee": [0,0,0]})"),
-               FormatError);
-  EXPECT_THROW(read(R"({"head": [0, "1", 0], "pelvis": [0,0,0], "left_knee": [0,0,0], "right_knee": [0,0,0]})"),
-               FormatError);
+  EXPECT_THROW(
+      read(R"({"head": [0, 1], "pelvis": [0,0,0], "left_knee": [0,0,0], "right_knee": [0,0,0]})"),
+      FormatError);
+  EXPECT_THROW(
+      read(
+          R"({"head": [0, "1", 0], "pelvis": [0,0,0], "left_knee": [0,0,0], "right_knee": [0,0,0]})"),
+      FormatError);
   // 1e999 parses as infinity.
-  EXPECT_THROW(read(R"({"head": [0, 1e999, 0], "pelvis": [0,0,0], "left_knee": [0,0,0], "right_knee": [0,0,0]})"),
-               FormatError);
+  EXPECT_THROW(
+      read(
+          R"({"head": [0, 1e999, 0], "pelvis": [0,0,0], "left_knee": [0,0,0], "right_knee": [0,0,0]})"),
+      FormatError);
   try {
     read(R"({"head": [0, 1, 0], "left_pinky": [0, 0, 0]})");
     ADD_FAILURE() << "unknown name accepted";
