@@ -43,7 +43,8 @@ nlohmann::json rows(const Eigen::MatrixXd& m) {
   nlohmann::json out = nlohmann::json::array();
   for (Eigen::Index r = 0; r < m.rows(); ++r) {
     nlohmann::json row = nlohmann::json::array();
-    for (Eigen::Index c = 0; c < m.cols(); ++c) row.push_back(m(r, c));
+    for (Eigen::Index c = 0; c < m.cols(); ++c)
+      row.push_back(m(r, c) == 0 ? 0.0 : m(r, c));  // no −0
     out.push_back(row);
   }
   return out;

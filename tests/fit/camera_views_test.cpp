@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <numbers>
 #include <regex>
@@ -13,6 +14,8 @@
 
 #include "core/error.h"
 #include "core/shapes.h"
+#include "fit/keypoints.h"
+#include "test_support.h"
 
 namespace s2p {
 namespace {
@@ -236,6 +239,53 @@ TEST(CameraViews, WrittenCamerasProjectLikeTheRendererInTheFileFrame) {
   Eigen::Affine3d shear = Eigen::Affine3d::Identity();
   shear.linear()(0, 1) = 0.5;
   EXPECT_THROW(cameraInFileFrame(cams[0], shear), InputError);
+}
+
+// The OpenPose path end to end without OpenPose: BODY_25 points in the normalised frame are
+// projected with the written (file-frame) XML cameras, triangulated by DLT as OpenPose's 3D
+// module does, written as its JSON, and read back by readKeypoints onto the original points.
+TEST(CameraViews, TriangulatedKeypointsComeBackInTheNormalisedFrame) {
+  Eigen::Affine3d toInput = Eigen::Affine3d::Identity();  // a file in mm, +Z up, shifted
+  toInput.translate(Eigen::Vector3d(-300, 25, 1000));
+  toInput.rotate(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX()));
+  toInput.scale(1000);
+  const auto cams = cameraRig(Eigen::Vector3d(0, 0.9, 0), {});
+  std::vector<Eigen::Matrix<double, 3, 4>> P;  // K·[R|t] read back from the XML
+  for (const PinholeCamera& c : cams) {
+    const std::string xml = cameraToOpenCvXml(cameraInFileFrame(c, toInput));
+    P.emplace_back(xmlMatrix(xml, "Intrinsics") * xmlMatrix(xml, "CameraMatrix"));
+  }
+  nlohmann::json flat = nlohmann::json::array();
+  std::vector<Eigen::Vector3d> truth(kBody25Count);
+  for (int i = 0; i < kBody25Count; ++i) {
+    truth[i] = Eigen::Vector3d(0.02 * i - 0.25, 0.1 + 0.06 * i, 0.01 * (i % 5));  // normalised
+    const Eigen::Vector3d q = toInput * truth[i];
+    Eigen::MatrixXd A(2 * P.size(), 4);
+    for (std::size_t k = 0; k < P.size(); ++k) {
+      const Eigen::Vector3d h = P[k] * q.homogeneous();
+      const Eigen::Vector2d uv = h.head<2>() / h.z();
+      A.row(2 * k) = uv.x() * P[k].row(2) - P[k].row(0);
+      A.row(2 * k + 1) = uv.y() * P[k].row(2) - P[k].row(1);
+    }
+    const Eigen::Vector4d X =
+        Eigen::JacobiSVD<Eigen::MatrixXd>(A, Eigen::ComputeFullV).matrixV().col(3);
+    const Eigen::Vector3d tri = X.head<3>() / X(3);
+    const bool detected = i != 6;  // LElbow not detected
+    for (double v : {tri.x(), tri.y(), tri.z(), detected ? 0.9 : 0.0})
+      flat.push_back(detected ? v : 0.0);
+  }
+  test::TempDir dir;
+  const nlohmann::json doc = {{"people", {{{"pose_keypoints_3d", flat}}}}};
+  test::writeFile(dir / "op.json", doc.dump());
+  const auto targets = readKeypoints(dir / "op.json", toInput.inverse());
+  EXPECT_EQ(targets.size(), 18u);  // 19 mapped BODY_25 points, one not detected
+  for (const JointTarget& t : targets) {
+    int i = 0;
+    while (body25ToCanonical(i) != t.joint) ++i;
+    EXPECT_NE(i, 6);
+    EXPECT_LT((t.position - truth[i]).norm(), 1e-6) << toString(t.joint);
+    EXPECT_EQ(t.weight, 0.9);
+  }
 }
 
 }  // namespace
