@@ -21,33 +21,20 @@ constexpr std::array<const char*, kBody25Count> kBody25Names = {
     "RHip", "RKnee",   "RAnkle",    "LHip",   "LKnee",   "LAnkle",    "REye",   "LEye",   "REar",
     "LEar", "LBigToe", "LSmallToe", "LHeel",  "RBigToe", "RSmallToe", "RHeel"};
 
-// BODY_25 index → canonical point (−1: none). OpenPose's L/R are the person's own sides, as ours.
-constexpr std::array<int, kBody25Count> kBody25Canonical = {
-    static_cast<int>(Canonical::Nose),
-    static_cast<int>(Canonical::Neck),
-    static_cast<int>(Canonical::RightShoulder),
-    static_cast<int>(Canonical::RightElbow),
-    static_cast<int>(Canonical::RightWrist),
-    static_cast<int>(Canonical::LeftShoulder),
-    static_cast<int>(Canonical::LeftElbow),
-    static_cast<int>(Canonical::LeftWrist),
-    static_cast<int>(Canonical::Pelvis),
-    static_cast<int>(Canonical::RightHip),
-    static_cast<int>(Canonical::RightKnee),
-    static_cast<int>(Canonical::RightAnkle),
-    static_cast<int>(Canonical::LeftHip),
-    static_cast<int>(Canonical::LeftKnee),
-    static_cast<int>(Canonical::LeftAnkle),
-    -1,
-    -1,
-    -1,
-    -1,
-    static_cast<int>(Canonical::LeftToeTip),
-    -1,
-    static_cast<int>(Canonical::LeftHeel),
-    static_cast<int>(Canonical::RightToeTip),
-    -1,
-    static_cast<int>(Canonical::RightHeel)};
+// BODY_25 index → canonical point. OpenPose's L/R are the person's own sides, as ours; eyes and
+// ears (15–18) and small toes (20, 23) have no canonical counterpart.
+using C = Canonical;
+constexpr std::optional<Canonical> kNone;
+constexpr std::array<std::optional<Canonical>, kBody25Count> kBody25Canonical = {
+    C::Nose,       C::Neck,        C::RightShoulder,
+    C::RightElbow, C::RightWrist,  C::LeftShoulder,
+    C::LeftElbow,  C::LeftWrist,   C::Pelvis,
+    C::RightHip,   C::RightKnee,   C::RightAnkle,
+    C::LeftHip,    C::LeftKnee,    C::LeftAnkle,
+    kNone,         kNone,          kNone,
+    kNone,         C::LeftToeTip,  kNone,
+    C::LeftHeel,   C::RightToeTip, kNone,
+    C::RightHeel};
 
 void checkTransform(const Eigen::Affine3d& t, std::string_view what) {
   if (!t.matrix().allFinite())
@@ -162,8 +149,8 @@ const char* body25Name(int index) {
 }
 
 std::optional<Canonical> body25ToCanonical(int index) {
-  if (index < 0 || index >= kBody25Count || kBody25Canonical[index] < 0) return std::nullopt;
-  return static_cast<Canonical>(kBody25Canonical[index]);
+  if (index < 0 || index >= kBody25Count) return std::nullopt;
+  return kBody25Canonical[index];
 }
 
 std::vector<JointTarget> body25Targets(const std::vector<double>& flat,
