@@ -2,10 +2,10 @@
 // OpenPose in 3D mode and feeds its keypoints back with `fit --keypoints`.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
-#include <regex>
 
 #include "app/commands.h"
 #include "core/error.h"
@@ -27,15 +27,20 @@ struct RenderViewsCommand {
 constexpr const char* kCameraFolder = "camera_parameters";
 
 void parseSize(const std::string& text, CameraRigOptions& rig) {
-  static const std::regex re(R"((\d{1,5})[xX](\d{1,5}))");
-  std::smatch m;
-  if (!std::regex_match(text, m, re))
-    throw CLI::ValidationError("--size",
-                               "'" + text + "': give WIDTHxHEIGHT in pixels, e.g. 800x600");
-  rig.width = std::stoi(m[1]);
-  rig.height = std::stoi(m[2]);
+  const auto bad = [&](const char* why) {
+    throw CLI::ValidationError("--size", "'" + text + "': " + why);
+  };
+  const std::size_t x = text.find_first_of("xX");
+  const auto digits = [](const std::string& s) {
+    return !s.empty() && s.size() <= 5 &&
+           std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (x == std::string::npos || !digits(text.substr(0, x)) || !digits(text.substr(x + 1)))
+    bad("give WIDTHxHEIGHT in pixels, e.g. 800x600");
+  rig.width = std::stoi(text.substr(0, x));
+  rig.height = std::stoi(text.substr(x + 1));
   if (rig.width < 16 || rig.height < 16 || rig.width > 8192 || rig.height > 8192)
-    throw CLI::ValidationError("--size", "'" + text + "': each side must be in [16, 8192] pixels");
+    bad("each side must be in [16, 8192] pixels");
 }
 
 json matrixRows(const Eigen::Matrix4d& m) {

@@ -8,7 +8,6 @@
 #include <Eigen/SVD>
 #include <cmath>
 #include <numbers>
-#include <regex>
 #include <sstream>
 #include <string>
 
@@ -164,21 +163,29 @@ TEST(CameraViews, NearerSurfaceHidesTheFartherOne) {
   EXPECT_LT(grey(farOnly, static_cast<int>(pn.x()), static_cast<int>(pn.y())), 145);
 }
 
-// Parses <Name ...>...<data> numbers </data></Name> from OpenCV XML.
+// Reads <Name type_id="opencv-matrix"><rows>r</rows><cols>c</cols><dt>d</dt><data>…</data></Name>
+// from OpenCV XML.
 Eigen::MatrixXd xmlMatrix(const std::string& xml, const std::string& name) {
-  const std::regex re(
-      "<" + name +
-      R"( type_id="opencv-matrix">\s*<rows>(\d+)</rows>\s*<cols>(\d+)</cols>\s*<dt>d</dt>\s*<data>([^<]*)</data></)" +
-      name + ">");
-  std::smatch m;
-  EXPECT_TRUE(std::regex_search(xml, m, re)) << name;
-  if (m.empty()) return {};
-  const int r = std::stoi(m[1]), c = std::stoi(m[2]);
-  std::istringstream in(m[3].str());
+  const auto between = [&](std::size_t from, const std::string& open, const std::string& close) {
+    const std::size_t a = xml.find(open, from);
+    const std::size_t b = a == std::string::npos ? a : xml.find(close, a);
+    return b == std::string::npos ? std::string()
+                                  : xml.substr(a + open.size(), b - a - open.size());
+  };
+  const std::size_t at = xml.find("<" + name + " type_id=\"opencv-matrix\">");
+  EXPECT_NE(at, std::string::npos) << name;
+  if (at == std::string::npos) return {};
+  EXPECT_EQ(between(at, "<dt>", "</dt>"), "d");
+  EXPECT_NE(xml.find("</data></" + name + ">", at), std::string::npos) << name;
+  const int r = std::stoi(between(at, "<rows>", "</rows>"));
+  const int c = std::stoi(between(at, "<cols>", "</cols>"));
+  std::istringstream in(between(at, "<data>", "</data>"));
   Eigen::MatrixXd out(r, c);
   for (int i = 0; i < r; ++i)
     for (int j = 0; j < c; ++j) in >> out(i, j);
   EXPECT_FALSE(in.fail()) << name;
+  double extra;
+  EXPECT_FALSE(in >> extra) << name << ": more numbers than rows×cols";
   return out;
 }
 
