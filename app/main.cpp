@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   app::addSynthCommands(app, commands);
   app::addSegmentCommand(app, commands);
   app::addFitCommands(app, commands);
+  app::addRenderViewsCommand(app, commands);
 
   try {
     app.parse(argc, argv);
