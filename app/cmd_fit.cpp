@@ -14,6 +14,7 @@
 #include "body/body_json.h"
 #include "body/body_source.h"
 #include "core/error.h"
+#include "fit/keypoints.h"
 #include "fit/scan_fit.h"
 #include "io/write_mesh.h"
 #include "synth/truth.h"
@@ -28,6 +29,7 @@ struct FitCommand {
   std::string scan;
   std::string out;
   std::string model = "mannequin";
+  std::string keypoints;
   bool noNonrigid = false;
   LoadOptions load;
 };
@@ -39,6 +41,10 @@ void addFitOptions(CLI::App* cmd, FitCommand& o) {
                   "Body model: mannequin (built in), mpfb2:DIR (MakeHuman/MPFB2 folder) or "
                   "smpl:FILE.npz")
       ->capture_default_str();
+  cmd->add_option("--keypoints", o.keypoints,
+                  "3D joints instead of the geometric pose initialisation, in the scan file's "
+                  "frame: OpenPose BODY_25 --3d output (see render-views), or a map "
+                  "{\"left_wrist\": [x, y, z], ...} of canonical joint names");
   cmd->add_flag("--no-nonrigid", o.noNonrigid,
                 "Skip the non-rigid full fit (body_full.obj is then the fitted body)");
   addLoadOptions(cmd, o.load);
@@ -51,16 +57,17 @@ BodyModel loadModel(const std::string& spec, Progress& progress) {
   return m;
 }
 
-ScanFitOptions scanFitOptions(const FitCommand& cmd) {
+ScanFitOptions scanFitOptions(const FitCommand& cmd, const Scan& scan) {
   ScanFitOptions o;
   o.nonrigid = !cmd.noNonrigid;
+  if (!cmd.keypoints.empty()) o.keypoints = readKeypoints(cmd.keypoints, scan.toInputFrame.inverse());
   return o;
 }
 
 int runFit(const FitCommand& cmd, Progress& progress) {
   const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
   const BodyModel model = loadModel(cmd.model, progress);
-  const ScanFit fit = fitScan(loaded.scan.mesh, model, scanFitOptions(cmd), &progress);
+  const ScanFit fit = fitScan(loaded.scan.mesh, model, scanFitOptions(cmd, loaded.scan), &progress);
   progress.begin("write outputs");
   writeFit(cmd.out, loaded.scan, model, fit);
   progress.end();
@@ -82,7 +89,7 @@ int runRun(const RunCommand& cmd, Progress& progress) {
   const BodyModel model = loadModel(cmd.fit.model, progress);
   SegmentationOptions so;
   so.boundary.faithful = !cmd.fast;
-  const RunOutput run = runPipeline(loaded, model, scanFitOptions(cmd.fit), so, progress);
+  const RunOutput run = runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress);
   writeRun(cmd.fit.out, loaded, model, run, progress);
   printRun(run, cmd.fit.out);
   return 0;

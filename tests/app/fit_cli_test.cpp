@@ -2,6 +2,7 @@
 // accept and that lies where the truth's body is, and the refusals that leave no output behind.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -52,6 +53,28 @@ TEST(FitCli, FittedBodyFeedsSegmentAndMatchesTheTruth_Slow) {
   EXPECT_GE(e["mean_garment_iou"].get<double>(), 0.95);
   EXPECT_LT(e["body"]["mean_error_mm"].get<double>(), 30.0);
   EXPECT_LT(e["body"]["max_error_mm"].get<double>(), 60.0);
+
+  // Keypoints from outside (here: eight of the true joints, in the scan file's frame) start the
+  // pose instead of the scan's extremities and lead to the same body.
+  const nlohmann::json truth = readJson(dir / "synth" / "truth.json");
+  nlohmann::json keypoints;
+  for (const char* j : {"pelvis", "neck", "left_wrist", "right_wrist", "left_elbow",
+                        "right_elbow", "left_ankle", "right_ankle"})
+    keypoints[j] = truth["body"]["canonical"][j];
+  test::writeFile(dir / "keypoints.json", keypoints.dump());
+  r = test::runCli("-q fit " + q(dir / "synth" / "scan.ply") + " --no-nonrigid --keypoints " +
+                   q(dir / "keypoints.json") + " -o " + q(dir / "fit_kp"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json kp = readJson(dir / "fit_kp" / "body.json");
+  EXPECT_EQ(kp["fit"]["initialisation"], "keypoints");
+  double worst = 0;
+  for (auto& [name, xyz] : kp["canonical"].items()) {
+    const auto& t = truth["body"]["canonical"][name];
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += std::pow(xyz[k].get<double>() - t[k].get<double>(), 2);
+    worst = std::max(worst, std::sqrt(d2));
+  }
+  EXPECT_LT(worst, 0.060);
 }
 
 TEST(FitCli, RefusesWhatIsNotAPersonWithoutWritingAnything) {
