@@ -62,13 +62,15 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
   SpdSolver solver(SpdSolver::Ordering::Metis);
   std::vector<char> factoredWeights;  // #V: the 0/1 data weights of the current factor
   double factoredAlpha = -1, factoredBeta = -1;
+  std::vector<int> hintFaces(n, -1);  // closest faces of the last update: the search's start
   const double maxDist = opt.maxDistance * scale;
   for (size_t step = 0; step < opt.stiffness.size(); ++step) {
     const double alpha = opt.stiffness[step], beta = opt.landmarkWeight[step];
     for (int it = 0; it < opt.maxInnerIterations; ++it) {
       TriMesh cur{deformed(), templ.F};
       const Eigen::MatrixX3d N = opt.weightsPerStep && it > 0 ? Eigen::MatrixX3d() : vertexNormals(cur);
-      const std::vector<ClosestHit> hits = query.closestPoints(cur.V);
+      const std::vector<ClosestHit> hits = query.closestPoints(cur.V, hintFaces);
+      for (int i = 0; i < n; ++i) hintFaces[i] = hits[i].face;
       std::vector<char> weights(n);
       if (opt.weightsPerStep && it > 0) {
         weights = factoredWeights;
