@@ -6,8 +6,10 @@
 // truth, inside-or-near fraction, non-rigid fit distance).
 //
 // S2P_FIT_BENCH_REF=FILE: the first run writes the fitted and full bodies' vertices there, later
-// runs report their largest vertex change against it (ref_fit_mm, ref_full_mm) to show that a
-// speed-up did not change the result.
+// runs report their largest vertex change against it (ref_fit_mm, ref_full_mm; the mean change of
+// the full fit on stderr) to show whether a speed-up changed the result. For experiments:
+// NO_NICP=1 leaves the non-rigid ICP out; NICP_INNER=k and NICP_TOL=x override its inner
+// iterations and tolerance.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
@@ -173,7 +175,9 @@ void BM_FitClothed50k(benchmark::State& state) {
     r = runBodyFit({.scan = scan, .model = &m, .initial = start}, {});
 
     const auto t2 = Clock::now();
-    const NonrigidIcpOptions icp;
+    NonrigidIcpOptions icp;
+    if (const char* e = std::getenv("NICP_INNER")) icp.maxInnerIterations = std::atoi(e);
+    if (const char* e = std::getenv("NICP_TOL")) icp.tolerance = std::atof(e);
     const MeshQuery query(scan);
     const auto lm = surfaceLandmarks(m, r.body.mesh, query, icp.maxDistance);
     landmarks = static_cast<int>(lm.size());

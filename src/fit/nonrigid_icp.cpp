@@ -131,9 +131,11 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
     }
   }
   result.mesh.F = templ.F;
-  result.mesh.V = (deformed() / scale).rowwise() + centre;
-  const std::vector<ClosestHit> hits = MeshQuery(target).closestPoints(result.mesh.V);
-  for (const auto& h : hits) result.meanDistance += h.distance / n;
+  const Eigen::MatrixX3d Vn = deformed();
+  result.mesh.V = (Vn / scale).rowwise() + centre;
+  // Distances in the unit-diagonal frame, scaled back: no second spatial index of the target.
+  const std::vector<ClosestHit> hits = query.closestPoints(Vn, hintFaces);
+  for (const auto& h : hits) result.meanDistance += h.distance / scale / n;
   return result;
 }
 
