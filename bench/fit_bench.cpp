@@ -160,8 +160,7 @@ void BM_FitClothed50k(benchmark::State& state) {
     const Orientation o = estimateOrientation(scanIn);
     const Eigen::Vector3d c = boundingBox(scanIn.V).centre();
     const Eigen::Vector3d pivot(c.x(), 0, c.z());
-    const Eigen::Affine3d toFit = Eigen::Translation3d(pivot) *
-                                  Eigen::Affine3d(yawRotation(0.0)) *
+    const Eigen::Affine3d toFit = Eigen::Translation3d(pivot) * Eigen::Affine3d(yawRotation(0.0)) *
                                   Eigen::Translation3d(-pivot);
     const TriMesh scan = transformed(scanIn, toFit);
     toScan = toFit.inverse();
@@ -181,8 +180,10 @@ void BM_FitClothed50k(benchmark::State& state) {
     const MeshQuery query(scan);
     const auto lm = surfaceLandmarks(m, r.body.mesh, query, icp.maxDistance);
     landmarks = static_cast<int>(lm.size());
-    if (!std::getenv("NO_NICP")) full = runNonrigidIcp(r.body.mesh, scan, lm, icp);
-    else full.mesh = r.body.mesh;
+    if (!std::getenv("NO_NICP"))
+      full = runNonrigidIcp(r.body.mesh, scan, lm, icp);
+    else
+      full.mesh = r.body.mesh;
     nicp = secondsSince(t2);
     chain = secondsSince(t0);
     cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;

@@ -1,10 +1,10 @@
 #include "core/mesh_query.h"
 
-#include <Eigen/Geometry>
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <mutex>
@@ -193,9 +193,8 @@ ClosestHit MeshQuery::closestPointFrom(const Eigen::Vector3d& p, int hintFace) c
   query.radius = std::numeric_limits<float>::infinity();
   if (hintFace >= 0 && hintFace < numFaces()) {
     // Start from the hinted face: Embree then only visits triangles that can be closer.
-    const PointOnTriangle q = closestOnTriangle(p, impl_->corner(hintFace, 0),
-                                                impl_->corner(hintFace, 1),
-                                                impl_->corner(hintFace, 2));
+    const PointOnTriangle q = closestOnTriangle(
+        p, impl_->corner(hintFace, 0), impl_->corner(hintFace, 1), impl_->corner(hintFace, 2));
     const double d = (q.point - p).norm();
     state.best = ClosestHit{hintFace, q.bary, q.point, d};
     query.radius = floatAbove(d + state.pad);

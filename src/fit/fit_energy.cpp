@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <mutex>
 #include <numbers>
 #include <string>
 
@@ -67,6 +68,13 @@ Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
   return c;
 }
 
+struct FitEnergy::HitCache {
+  std::mutex mutex;
+  bool valid = false;
+  Eigen::VectorXd params;        // packParams of the evaluation point
+  std::vector<ClosestHit> hits;  // per active vertex
+};
+
 JointLimits defaultJointLimits(const BodyModel& model) {
   const int nj = model.numJoints();
   JointLimits l;
@@ -94,7 +102,12 @@ JointLimits defaultJointLimits(const BodyModel& model) {
 
 FitEnergy::FitEnergy(const Poser& poser, const ScanTarget& scan, const BodyParams& initial,
                      const FitWeights& weights, JointLimits limits)
-    : poser_(poser), scan_(scan), initial_(initial), w_(weights), limits_(std::move(limits)) {
+    : poser_(poser),
+      scan_(scan),
+      initial_(initial),
+      w_(weights),
+      limits_(std::move(limits)),
+      cache_(std::make_shared<HitCache>()) {
   const BodyModel& m = poser_.model();
   if (initial_.shape.size() == 0) initial_.shape = Eigen::VectorXd::Zero(m.numShapes());
   if (initial_.shape.size() != m.numShapes() || initial_.pose.axisAngle.rows() != m.numJoints())
@@ -120,6 +133,10 @@ void FitEnergy::setCorrespondences(Correspondences c) {
     throw InputError("fit energy: correspondences for " + std::to_string(c.closest.rows()) +
                      " vertices, the body has " + std::to_string(nv));
   corr_ = std::move(c);
+  {
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    cache_->valid = false;
+  }
   active_.clear();
   for (int i = 0; i < nv; ++i)
     if (corr_.side[i] != FitSide::Ignored) active_.push_back(i);
@@ -174,7 +191,20 @@ void FitEnergy::evaluateRows(const BodyParams& params, Eigen::VectorXd* r, Eigen
     Pa.row(a) = body.mesh.V.row(active_[a]);
     if (haveFaces) hints[a] = corr_.face[active_[a]];
   }
-  const std::vector<ClosestHit> hits = scan_.query().closestPoints(Pa, hints);
+  const Eigen::VectorXd key = packParams(params);
+  std::vector<ClosestHit> hits;
+  {
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    if (cache_->valid && cache_->params.size() == key.size() && cache_->params == key)
+      hits = cache_->hits;
+  }
+  if (static_cast<int>(hits.size()) != na) {
+    hits = scan_.query().closestPoints(Pa, hints);
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    cache_->params = key;
+    cache_->hits = hits;
+    cache_->valid = true;
+  }
   tbb::parallel_for(0, na, [&](int a) {
     const int i = active_[a];
     const int row = compact ? a : i;

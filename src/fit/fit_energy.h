@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "body/posing.h"
@@ -27,8 +28,8 @@ struct Correspondences {
   Eigen::VectorXd distance;   // #V, metres
   std::vector<FitSide> side;  // #V: which term the vertex feeds
   Eigen::VectorXd winding;    // #V: winding number of the scan at the vertex (0 if not considered)
-  std::vector<int> face;      // #V: scan face of the closest point (−1 if not considered), or empty
-  int sampled = 0;  // vertices considered (all, or a subset); data terms scale by 1/sampled
+  std::vector<int> face;  // #V: scan face of the closest point (−1 if not considered), or empty
+  int sampled = 0;        // vertices considered (all, or a subset); data terms scale by 1/sampled
   int numOutside() const;
   int numInside() const;
 };
@@ -130,7 +131,11 @@ class FitEnergy {
   // Rows of r: active vertex a on row a (compact) or on row active_[a], priors after them.
   void evaluateRows(const BodyParams& params, Eigen::VectorXd* r, Eigen::MatrixXd* J,
                     bool needShapeAndPose, bool compact) const;
-  std::vector<int> active_;     // vertices not ignored
+  std::vector<int> active_;  // vertices not ignored
+  // Closest points of the last evaluation point: Levenberg-Marquardt evaluates an accepted
+  // point twice (cost, then Jacobian). Shared by copies; guarded by a mutex.
+  struct HitCache;
+  std::shared_ptr<HitCache> cache_;
 };
 
 // Packing of BodyParams into one vector [β | θ (joint-major) | t] and back.

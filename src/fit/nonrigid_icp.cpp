@@ -68,7 +68,8 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
     const double alpha = opt.stiffness[step], beta = opt.landmarkWeight[step];
     for (int it = 0; it < opt.maxInnerIterations; ++it) {
       TriMesh cur{deformed(), templ.F};
-      const Eigen::MatrixX3d N = opt.weightsPerStep && it > 0 ? Eigen::MatrixX3d() : vertexNormals(cur);
+      const Eigen::MatrixX3d N =
+          opt.weightsPerStep && it > 0 ? Eigen::MatrixX3d() : vertexNormals(cur);
       const std::vector<ClosestHit> hits = query.closestPoints(cur.V, hintFaces);
       for (int i = 0; i < n; ++i) hintFaces[i] = hits[i].face;
       std::vector<char> weights(n);
@@ -81,8 +82,8 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
               h.distance <= maxDist && N.row(i).dot(targetNormals.row(h.face)) >= opt.minNormalDot;
         }
       }
-      const bool sameMatrix =
-          solver.ready() && alpha == factoredAlpha && beta == factoredBeta && weights == factoredWeights;
+      const bool sameMatrix = solver.ready() && alpha == factoredAlpha && beta == factoredBeta &&
+                              weights == factoredWeights;
       std::vector<Eigen::Triplet<double>> T;
       if (!sameMatrix) T.reserve(16 * n + 8 * edges.size() + 4 * n);
       Eigen::MatrixXd B = Eigen::MatrixXd::Zero(4 * n, 3);

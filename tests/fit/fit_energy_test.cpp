@@ -150,8 +150,12 @@ TEST(FitEnergy, CompactResidualsAreTheNonZeroRowsOfTheFullOnes) {
       EXPECT_EQ(c.face[v], -1);
     } else {
       EXPECT_GE(c.face[v], 0);
-      if (c.side[v] == FitSide::Inside) EXPECT_GT(c.winding[v], 0.5);
-      if (c.side[v] == FitSide::Outside) EXPECT_LE(c.winding[v], 0.5);
+      if (c.side[v] == FitSide::Inside) {
+        EXPECT_GT(c.winding[v], 0.5);
+      }
+      if (c.side[v] == FitSide::Outside) {
+        EXPECT_LE(c.winding[v], 0.5);
+      }
     }
   }
   ASSERT_GT(c.numOutside(), 50);
@@ -189,7 +193,8 @@ TEST(FitEnergy, HintedClosestPointsEqualUnhinted) {
   std::uniform_int_distribution<int> face(0, body.numFaces() - 1);
   Eigen::MatrixX3d P(400, 3);
   for (int i = 0; i < P.rows(); ++i)
-    P.row(i) = body.V.row(face(rng) % body.numVertices()) + Eigen::RowVector3d(u(rng), u(rng), u(rng)) * (i % 4 == 0 ? 1.0 : 0.1);
+    P.row(i) = body.V.row(face(rng) % body.numVertices()) +
+               Eigen::RowVector3d(u(rng), u(rng), u(rng)) * (i % 4 == 0 ? 1.0 : 0.1);
   const std::vector<ClosestHit> plain = query.closestPoints(P);
   std::vector<int> hints(P.rows());
   for (int i = 0; i < P.rows(); ++i)
