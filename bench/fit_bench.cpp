@@ -165,6 +165,8 @@ void BM_FitClothed50k(benchmark::State& state) {
     const TriMesh scan = transformed(scanIn, toFit);
     toScan = toFit.inverse();
     yaw = o.yaw;
+    for (const OrientationCue& cue : o.cues)
+      std::fprintf(stderr, "orientation cue %s: %+.4f\n", cue.name.c_str(), cue.vote);
     orient = secondsSince(t0);
 
     const auto t1 = Clock::now();
