@@ -1,10 +1,10 @@
 #include "core/mesh_query.h"
 
-#include <Eigen/Geometry>
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <mutex>
@@ -177,6 +177,10 @@ int MeshQuery::numVertices() const {
 }
 
 ClosestHit MeshQuery::closestPoint(const Eigen::Vector3d& p) const {
+  return closestPointFrom(p, -1);
+}
+
+ClosestHit MeshQuery::closestPointFrom(const Eigen::Vector3d& p, int hintFace) const {
   requireFinite(p, "closest-point query");
   Impl::PointQueryState state{impl_.get(), p, impl_->pad + std::ldexp(p.cwiseAbs().maxCoeff(), -22),
                               ClosestHit{}};
@@ -187,6 +191,14 @@ ClosestHit MeshQuery::closestPoint(const Eigen::Vector3d& p) const {
   query.z = static_cast<float>(p.z());
   query.time = 0.0f;
   query.radius = std::numeric_limits<float>::infinity();
+  if (hintFace >= 0 && hintFace < numFaces()) {
+    // Start from the hinted face: Embree then only visits triangles that can be closer.
+    const PointOnTriangle q = closestOnTriangle(
+        p, impl_->corner(hintFace, 0), impl_->corner(hintFace, 1), impl_->corner(hintFace, 2));
+    const double d = (q.point - p).norm();
+    state.best = ClosestHit{hintFace, q.bary, q.point, d};
+    query.radius = floatAbove(d + state.pad);
+  }
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(impl_->scene, &query, &context, Impl::closestPointCallback, &state);
@@ -208,6 +220,21 @@ std::vector<ClosestHit> MeshQuery::closestPoints(const Eigen::MatrixX3d& P) cons
                     [&](const tbb::blocked_range<int>& r) {
                       for (int i = r.begin(); i != r.end(); ++i)
                         out[i] = closestPoint(P.row(i).transpose());
+                    });
+  return out;
+}
+
+std::vector<ClosestHit> MeshQuery::closestPoints(const Eigen::MatrixX3d& P,
+                                                 const std::vector<int>& hintFaces) const {
+  requireFiniteRows(P, "closest-point query");
+  if (hintFaces.size() != static_cast<size_t>(P.rows()))
+    throw InputError("MeshQuery: " + std::to_string(hintFaces.size()) + " hint faces for " +
+                     std::to_string(P.rows()) + " query points; give one per point (-1: none)");
+  std::vector<ClosestHit> out(P.rows());
+  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(P.rows()), 64),
+                    [&](const tbb::blocked_range<int>& r) {
+                      for (int i = r.begin(); i != r.end(); ++i)
+                        out[i] = closestPointFrom(P.row(i).transpose(), hintFaces[i]);
                     });
   return out;
 }

@@ -54,6 +54,12 @@ class MeshQuery {
   ClosestHit closestPoint(const Eigen::Vector3d& p) const;
   // closestPoint for every row of P (#P×3), in parallel (TBB); result i belongs to row i.
   std::vector<ClosestHit> closestPoints(const Eigen::MatrixX3d& P) const;
+  // closestPoints with a guess per point (e.g. the face found at the previous iteration of an
+  // ICP; −1 or out of range: none): the search starts from that face's distance and visits far
+  // fewer BVH nodes. The same distances as without hints (on a tie the face may differ). Throws
+  // InputError unless there is one hint per row of P.
+  std::vector<ClosestHit> closestPoints(const Eigen::MatrixX3d& P,
+                                        const std::vector<int>& hintFaces) const;
 
   // First hit of the ray origin + t·dir/|dir| with t in [tMin, tMax] (t is a distance;
   // dir need not be unit but must be non-zero). Faces are two-sided. nullopt on a miss.
@@ -75,6 +81,7 @@ class MeshQuery {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  ClosestHit closestPointFrom(const Eigen::Vector3d& p, int hintFace) const;
 };
 
 }  // namespace s2p

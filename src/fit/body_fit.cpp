@@ -21,11 +21,12 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// The whole energy as one Ceres cost with parameter blocks [β (when #S > 0) | θ | t].
+// The whole energy as one Ceres cost with parameter blocks [β (when #S > 0) | θ | t], on the
+// compact residuals (no rows for the ignored or unsampled vertices).
 class FitCost : public ceres::CostFunction {
  public:
   FitCost(const FitEnergy& energy, const BodyModel& model) : energy_(energy), model_(model) {
-    set_num_residuals(energy.numResiduals());
+    set_num_residuals(energy.numCompactResiduals());
     if (model.numShapes() > 0) mutable_parameter_block_sizes()->push_back(model.numShapes());
     mutable_parameter_block_sizes()->push_back(3 * model.numJoints());
     mutable_parameter_block_sizes()->push_back(3);
@@ -45,7 +46,7 @@ class FitCost : public ceres::CostFunction {
     const bool wantShapePose = jacobians && ((ns > 0 && jacobians[0]) || jacobians[b0]);
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
-    energy_.evaluate(p, &r, jacobians ? &J : nullptr, wantShapePose);
+    energy_.evaluateCompact(p, &r, jacobians ? &J : nullptr, wantShapePose);
     if (!r.allFinite()) return false;
     Eigen::Map<Eigen::VectorXd>(residuals, r.size()) = r;
     if (!jacobians) return true;
@@ -246,7 +247,13 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
   result.body = poser.pose(result.params);
   energy.setCorrespondences(findCorrespondences(target, result.body.mesh));
   result.energy = energy.terms(result.params);
-  result.insideOrNear = insideOrNearFraction(target, result.body.mesh);
+  // insideOrNearFraction from the closest points and winding numbers just found.
+  const Correspondences& last = energy.correspondences();
+  int insideOrNear = 0;
+  for (int i = 0; i < result.body.mesh.numVertices(); ++i)
+    insideOrNear += last.winding[i] > 0.5 || last.distance[i] <= 0.005;
+  result.insideOrNear =
+      static_cast<double>(insideOrNear) / std::max(1, result.body.mesh.numVertices());
   result.seconds = secondsSince(t0);
   return result;
 }

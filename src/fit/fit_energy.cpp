@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <mutex>
 #include <numbers>
 #include <string>
 
@@ -40,6 +41,8 @@ Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
   c.closest = body.V;
   c.distance = Eigen::VectorXd::Zero(n);
   c.side.assign(n, FitSide::Ignored);
+  c.winding = Eigen::VectorXd::Zero(n);
+  c.face.assign(n, -1);
   c.sampled = m;
   Eigen::MatrixX3d P(m, 3);
   for (int k = 0; k < m; ++k) {
@@ -55,6 +58,8 @@ Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
     const ClosestHit& h = hits[k];
     c.closest.row(i) = h.point.transpose();
     c.distance[i] = h.distance;
+    c.winding[i] = wn[k];
+    c.face[i] = h.face;
     const bool inside = wn[k] > 0.5;
     if (opt.normalTest && N.row(i).dot(scan.faceNormals().row(h.face)) <= 0) continue;
     if (h.distance > (inside ? opt.pruneInside : opt.pruneOutside)) continue;
@@ -62,6 +67,13 @@ Correspondences findCorrespondences(const ScanTarget& scan, const TriMesh& body,
   }
   return c;
 }
+
+struct FitEnergy::HitCache {
+  std::mutex mutex;
+  bool valid = false;
+  Eigen::VectorXd params;        // packParams of the evaluation point
+  std::vector<ClosestHit> hits;  // per active vertex
+};
 
 JointLimits defaultJointLimits(const BodyModel& model) {
   const int nj = model.numJoints();
@@ -90,7 +102,12 @@ JointLimits defaultJointLimits(const BodyModel& model) {
 
 FitEnergy::FitEnergy(const Poser& poser, const ScanTarget& scan, const BodyParams& initial,
                      const FitWeights& weights, JointLimits limits)
-    : poser_(poser), scan_(scan), initial_(initial), w_(weights), limits_(std::move(limits)) {
+    : poser_(poser),
+      scan_(scan),
+      initial_(initial),
+      w_(weights),
+      limits_(std::move(limits)),
+      cache_(std::make_shared<HitCache>()) {
   const BodyModel& m = poser_.model();
   if (initial_.shape.size() == 0) initial_.shape = Eigen::VectorXd::Zero(m.numShapes());
   if (initial_.shape.size() != m.numShapes() || initial_.pose.axisAngle.rows() != m.numJoints())
@@ -116,6 +133,10 @@ void FitEnergy::setCorrespondences(Correspondences c) {
     throw InputError("fit energy: correspondences for " + std::to_string(c.closest.rows()) +
                      " vertices, the body has " + std::to_string(nv));
   corr_ = std::move(c);
+  {
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    cache_->valid = false;
+  }
   active_.clear();
   for (int i = 0; i < nv; ++i)
     if (corr_.side[i] != FitSide::Ignored) active_.push_back(i);
@@ -126,30 +147,67 @@ int FitEnergy::numResiduals() const {
   return m.numVertices() + m.numShapes() + 6 * (m.numJoints() - 1);
 }
 
+int FitEnergy::numCompactResiduals() const {
+  const BodyModel& m = poser_.model();
+  return static_cast<int>(active_.size()) + m.numShapes() + 6 * (m.numJoints() - 1);
+}
+
 void FitEnergy::evaluate(const BodyParams& params, Eigen::VectorXd* r, Eigen::MatrixXd* J,
                          bool needShapeAndPose) const {
+  evaluateRows(params, r, J, needShapeAndPose, false);
+}
+
+void FitEnergy::evaluateCompact(const BodyParams& params, Eigen::VectorXd* r, Eigen::MatrixXd* J,
+                                bool needShapeAndPose) const {
+  evaluateRows(params, r, J, needShapeAndPose, true);
+}
+
+void FitEnergy::evaluateRows(const BodyParams& params, Eigen::VectorXd* r, Eigen::MatrixXd* J,
+                             bool needShapeAndPose, bool compact) const {
   const BodyModel& m = poser_.model();
-  const int nv = m.numVertices(), ns = m.numShapes(), nj = m.numJoints();
+  const int ns = m.numShapes(), nj = m.numJoints();
+  const int nv = compact ? static_cast<int>(active_.size()) : m.numVertices();  // data rows
+  const int numRows = compact ? numCompactResiduals() : numResiduals();
   const int P = poser_.numParams();
   const PosedBody body = poser_.pose(params);
   const double scale = w_.referenceVertices / std::max(1, corr_.sampled);
   const double sOut = std::sqrt(w_.out * scale), sIn = std::sqrt(w_.in * scale);
   const double sig = w_.gmSigma, sig2 = sig * sig;
 
-  r->setZero(numResiduals());
+  r->setZero(numRows);
   const int na = static_cast<int>(active_.size());
   Eigen::MatrixXd Jv;  // (3·#active)×P
   if (J) {
-    J->setZero(numResiduals(), P);
+    J->setZero(numRows, P);
     if (needShapeAndPose && na > 0) Jv = poser_.vertexJacobian(params, active_);
   }
   // Closest scan points of the active vertices at this evaluation point (BSE recomputes the
   // distances at every evaluation; only the side and the pruning stay fixed per ICP step).
+  // The faces found with the correspondences are hints that make the search short.
   Eigen::MatrixX3d Pa(na, 3);
-  for (int a = 0; a < na; ++a) Pa.row(a) = body.mesh.V.row(active_[a]);
-  const std::vector<ClosestHit> hits = scan_.query().closestPoints(Pa);
+  std::vector<int> hints(na, -1);
+  const bool haveFaces = static_cast<int>(corr_.face.size()) == m.numVertices();
+  for (int a = 0; a < na; ++a) {
+    Pa.row(a) = body.mesh.V.row(active_[a]);
+    if (haveFaces) hints[a] = corr_.face[active_[a]];
+  }
+  const Eigen::VectorXd key = packParams(params);
+  std::vector<ClosestHit> hits;
+  {
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    if (cache_->valid && cache_->params.size() == key.size() && cache_->params == key)
+      hits = cache_->hits;
+  }
+  if (static_cast<int>(hits.size()) != na) {
+    hits = scan_.query().closestPoints(Pa, hints);
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    cache_->params = key;
+    cache_->hits = hits;
+    cache_->valid = true;
+  }
   tbb::parallel_for(0, na, [&](int a) {
     const int i = active_[a];
+    const int row = compact ? a : i;
     const Eigen::Vector3d d = Pa.row(a).transpose() - hits[a].point;
     const double dist = d.norm();
     double value, slope;  // residual and its derivative with respect to the distance
@@ -162,13 +220,13 @@ void FitEnergy::evaluate(const BodyParams& params, Eigen::VectorXd* r, Eigen::Ma
       value = sIn * sig * dist / std::sqrt(q);
       slope = sIn * sig * sig2 / (q * std::sqrt(q));
     }
-    (*r)[i] = value;
+    (*r)[row] = value;
     if (!J || dist < 1e-12) return;
     const Eigen::RowVector3d g = (slope / dist) * d.transpose();  // ∂r/∂v: the distance gradient
     if (needShapeAndPose)
-      J->row(i) = g * Jv.middleRows<3>(3 * a);
+      J->row(row) = g * Jv.middleRows<3>(3 * a);
     else
-      J->block<1, 3>(i, P - 3) = g;
+      J->block<1, 3>(row, P - 3) = g;
   });
 
   int row = nv;

@@ -57,47 +57,73 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
   };
 
   NonrigidIcpResult result;
-  SpdSolver solver;
+  // The pattern of A never changes (explicit zeros for unmatched vertices): one nested-dissection
+  // analysis, then numeric refactorisations; none at all while α, β and the weights repeat.
+  SpdSolver solver(SpdSolver::Ordering::Metis);
+  std::vector<char> factoredWeights;  // #V: the 0/1 data weights of the current factor
+  double factoredAlpha = -1, factoredBeta = -1;
+  std::vector<int> hintFaces(n, -1);  // closest faces of the last update: the search's start
   const double maxDist = opt.maxDistance * scale;
   for (size_t step = 0; step < opt.stiffness.size(); ++step) {
     const double alpha = opt.stiffness[step], beta = opt.landmarkWeight[step];
     for (int it = 0; it < opt.maxInnerIterations; ++it) {
       TriMesh cur{deformed(), templ.F};
-      const Eigen::MatrixX3d N = vertexNormals(cur);
-      const std::vector<ClosestHit> hits = query.closestPoints(cur.V);
-      std::vector<Eigen::Triplet<double>> T;
-      T.reserve(16 * n + 8 * edges.size() + 4 * n);
-      Eigen::MatrixXd B = Eigen::MatrixXd::Zero(4 * n, 3);
-      for (const auto& [a, b] : edges)
-        for (int k = 0; k < 4; ++k) {
-          const double s = alpha * alpha * G2[k];
-          T.emplace_back(4 * a + k, 4 * a + k, s);
-          T.emplace_back(4 * b + k, 4 * b + k, s);
-          T.emplace_back(4 * a + k, 4 * b + k, -s);
-          T.emplace_back(4 * b + k, 4 * a + k, -s);
+      const Eigen::MatrixX3d N =
+          opt.weightsPerStep && it > 0 ? Eigen::MatrixX3d() : vertexNormals(cur);
+      const std::vector<ClosestHit> hits = query.closestPoints(cur.V, hintFaces);
+      for (int i = 0; i < n; ++i) hintFaces[i] = hits[i].face;
+      std::vector<char> weights(n);
+      if (opt.weightsPerStep && it > 0) {
+        weights = factoredWeights;
+      } else {
+        for (int i = 0; i < n; ++i) {
+          const ClosestHit& h = hits[i];
+          weights[i] =
+              h.distance <= maxDist && N.row(i).dot(targetNormals.row(h.face)) >= opt.minNormalDot;
         }
+      }
+      const bool sameMatrix = solver.ready() && alpha == factoredAlpha && beta == factoredBeta &&
+                              weights == factoredWeights;
+      std::vector<Eigen::Triplet<double>> T;
+      if (!sameMatrix) T.reserve(16 * n + 8 * edges.size() + 4 * n);
+      Eigen::MatrixXd B = Eigen::MatrixXd::Zero(4 * n, 3);
+      if (!sameMatrix)
+        for (const auto& [a, b] : edges)
+          for (int k = 0; k < 4; ++k) {
+            const double s = alpha * alpha * G2[k];
+            T.emplace_back(4 * a + k, 4 * a + k, s);
+            T.emplace_back(4 * b + k, 4 * b + k, s);
+            T.emplace_back(4 * a + k, 4 * b + k, -s);
+            T.emplace_back(4 * b + k, 4 * a + k, -s);
+          }
       auto addPoint = [&](int i, double w2, const Eigen::Vector3d& u) {
         Eigen::Vector4d vt;
         vt << Vt.row(i).transpose(), 1.0;
         for (int r = 0; r < 4; ++r) {
-          for (int c = 0; c < 4; ++c) T.emplace_back(4 * i + r, 4 * i + c, w2 * vt[r] * vt[c]);
+          if (!sameMatrix)
+            for (int c = 0; c < 4; ++c) T.emplace_back(4 * i + r, 4 * i + c, w2 * vt[r] * vt[c]);
           B.row(4 * i + r) += w2 * vt[r] * u.transpose();
         }
       };
-      for (int i = 0; i < n; ++i) {
-        const ClosestHit& h = hits[i];
-        const bool ok =
-            h.distance <= maxDist && N.row(i).dot(targetNormals.row(h.face)) >= opt.minNormalDot;
-        addPoint(i, ok ? 1.0 : 0.0, h.point);  // explicit zeros keep the sparsity pattern
-      }
+      for (int i = 0; i < n; ++i)
+        addPoint(i, weights[i] ? 1.0 : 0.0, hits[i].point);  // zeros keep the sparsity pattern
       if (beta > 0)
         for (const auto& [v, p] : landmarks)
           addPoint(v, beta * beta, (p.transpose() - centre).transpose() * scale);
-      for (int i = 0; i < 4 * n; ++i)
-        T.emplace_back(i, i, 1e-10);  // keeps unmatched patches solvable
-      Eigen::SparseMatrix<double> A(4 * n, 4 * n);
-      A.setFromTriplets(T.begin(), T.end());
-      solver.compute(A);
+      if (!sameMatrix) {
+        for (int i = 0; i < 4 * n; ++i)
+          T.emplace_back(i, i, 1e-10);  // keeps unmatched patches solvable
+        Eigen::SparseMatrix<double> A(4 * n, 4 * n);
+        A.setFromTriplets(T.begin(), T.end());
+        if (solver.ready())
+          solver.refactor(A);
+        else
+          solver.compute(A);
+        factoredAlpha = alpha;
+        factoredBeta = beta;
+        factoredWeights = std::move(weights);
+        ++result.factorisations;
+      }
       const Eigen::MatrixXd Xn = solver.solve(B);
       const double change = (Xn - X).norm() / std::sqrt(static_cast<double>(X.size()));
       X = Xn;
@@ -106,9 +132,11 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
     }
   }
   result.mesh.F = templ.F;
-  result.mesh.V = (deformed() / scale).rowwise() + centre;
-  const std::vector<ClosestHit> hits = MeshQuery(target).closestPoints(result.mesh.V);
-  for (const auto& h : hits) result.meanDistance += h.distance / n;
+  const Eigen::MatrixX3d Vn = deformed();
+  result.mesh.V = (Vn / scale).rowwise() + centre;
+  // Distances in the unit-diagonal frame, scaled back: no second spatial index of the target.
+  const std::vector<ClosestHit> hits = query.closestPoints(Vn, hintFaces);
+  for (const auto& h : hits) result.meanDistance += h.distance / scale / n;
   return result;
 }
 

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "core/error.h"
+#include "core/mesh_query.h"
 #include "fit_test_bodies.h"
 
 namespace s2p {
@@ -121,6 +124,87 @@ TEST(FitEnergy, HeuristicsIgnoreOppositeNormalsAndFarVertices) {
     EXPECT_LE(cf.distance[i], 0.05);
   }
   EXPECT_LT(kept, body.numVertices() / 2);  // most of the body is more than 5 cm away
+}
+
+// The solver's compact residuals are the full residual vector without the rows of the ignored
+// and unsampled vertices (which are exactly zero there), Jacobian included.
+TEST(FitEnergy, CompactResidualsAreTheNonZeroRowsOfTheFullOnes) {
+  const BodyModel& m = test::smallMannequin();
+  const Poser poser(m);
+  const BodyParams truth = test::testParams(m, TestPose::Walking, true);
+  TriMesh scan = test::offsetAlongNormals(poseBody(m, truth).mesh, 0.02);
+  for (int v = 0; v < scan.numVertices(); ++v)
+    if (scan.V(v, 0) < 0) scan.V(v, 0) -= 0.06;
+  const ScanTarget target(scan);
+  BodyParams p = test::testParams(m, TestPose::APose, false, Eigen::Vector3d(0.01, -0.02, 0.03));
+  FitEnergy energy(poser, target, p, FitWeights{}, defaultJointLimits(m));
+  std::vector<int> subset;  // every third vertex
+  for (int v = 0; v < m.numVertices(); v += 3) subset.push_back(v);
+  energy.setCorrespondences(findCorrespondences(target, poseBody(m, p).mesh, {}, &subset));
+  const Correspondences& c = energy.correspondences();
+  std::vector<int> active;
+  for (int v = 0; v < m.numVertices(); ++v) {
+    if (c.side[v] != FitSide::Ignored) active.push_back(v);
+    if (v % 3 != 0) {
+      EXPECT_EQ(c.side[v], FitSide::Ignored);
+      EXPECT_EQ(c.face[v], -1);
+    } else {
+      EXPECT_GE(c.face[v], 0);
+      if (c.side[v] == FitSide::Inside) {
+        EXPECT_GT(c.winding[v], 0.5);
+      }
+      if (c.side[v] == FitSide::Outside) {
+        EXPECT_LE(c.winding[v], 0.5);
+      }
+    }
+  }
+  ASSERT_GT(c.numOutside(), 50);
+  ASSERT_GT(c.numInside(), 50);
+  const int na = static_cast<int>(active.size()), nv = m.numVertices();
+  ASSERT_EQ(energy.numCompactResiduals(), energy.numResiduals() - nv + na);
+
+  p.pose.axisAngle(m.jointIndex("right_elbow"), 1) += 0.2;  // away from the correspondences
+  for (bool shapeAndPose : {true, false}) {
+    Eigen::VectorXd r, rc;
+    Eigen::MatrixXd J, Jc;
+    energy.evaluate(p, &r, &J, shapeAndPose);
+    energy.evaluateCompact(p, &rc, &Jc, shapeAndPose);
+    ASSERT_EQ(rc.size(), energy.numCompactResiduals());
+    ASSERT_EQ(Jc.rows(), rc.size());
+    for (int a = 0; a < na; ++a) {
+      EXPECT_NEAR(rc[a], r[active[a]], 1e-12);
+      EXPECT_LT((Jc.row(a) - J.row(active[a])).norm(), 1e-12);
+    }
+    const int priors = energy.numResiduals() - nv;
+    EXPECT_EQ(rc.tail(priors), r.tail(priors));
+    EXPECT_EQ(Jc.bottomRows(priors), J.bottomRows(priors));
+    EXPECT_NEAR(rc.squaredNorm(), r.squaredNorm(), 1e-12 * r.squaredNorm());
+  }
+}
+
+// Closest points searched from a hinted face (right, wrong, none or out of range) are the
+// closest points found without hints.
+TEST(FitEnergy, HintedClosestPointsEqualUnhinted) {
+  const BodyModel& m = test::smallMannequin();
+  const TriMesh body = poseBody(m, test::testParams(m, TestPose::Walking)).mesh;
+  const MeshQuery query(body);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  std::uniform_int_distribution<int> face(0, body.numFaces() - 1);
+  Eigen::MatrixX3d P(400, 3);
+  for (int i = 0; i < P.rows(); ++i)
+    P.row(i) = body.V.row(face(rng) % body.numVertices()) +
+               Eigen::RowVector3d(u(rng), u(rng), u(rng)) * (i % 4 == 0 ? 1.0 : 0.1);
+  const std::vector<ClosestHit> plain = query.closestPoints(P);
+  std::vector<int> hints(P.rows());
+  for (int i = 0; i < P.rows(); ++i)
+    hints[i] = i % 4 == 0 ? -1 : i % 4 == 1 ? plain[i].face : i % 4 == 2 ? face(rng) : 1 << 30;
+  const std::vector<ClosestHit> hinted = query.closestPoints(P, hints);
+  for (int i = 0; i < P.rows(); ++i) {
+    EXPECT_NEAR(hinted[i].distance, plain[i].distance, 1e-12) << "point " << i;
+    EXPECT_LT((hinted[i].point - plain[i].point).norm(), 1e-9) << "point " << i;
+  }
+  EXPECT_THROW(query.closestPoints(P, std::vector<int>(3, -1)), InputError);
 }
 
 TEST(FitEnergy, RejectsMismatchedCorrespondences) {
