@@ -27,6 +27,7 @@
 #include "fit/nonrigid_icp.h"
 #include "fit/orientation.h"
 #include "fit/pose_init.h"
+#include "fit/scan_fit.h"
 
 namespace s2p {
 namespace {
@@ -98,25 +99,6 @@ double secondsSince(Clock::time_point t) {
 TriMesh transformed(const TriMesh& m, const Eigen::Affine3d& T) {
   TriMesh out = m;
   out.V = (m.V * T.linear().transpose()).rowwise() + T.translation().transpose();
-  return out;
-}
-
-// As fit/scan_fit.cpp's surfaceLandmarks: the main vertex of each surface canonical point,
-// pinned at its closest scan point within `maxDistance`.
-std::vector<std::pair<int, Eigen::Vector3d>> surfaceLandmarks(const BodyModel& model,
-                                                              const TriMesh& fitted,
-                                                              const MeshQuery& scan,
-                                                              double maxDistance) {
-  std::vector<std::pair<int, Eigen::Vector3d>> out;
-  for (const CanonicalDef& def : model.canonical) {
-    if (def.vertices.empty()) continue;
-    int best = def.vertices.front().first;
-    double bestWeight = -1;
-    for (const auto& [v, w] : def.vertices)
-      if (w > bestWeight) best = v, bestWeight = w;
-    const ClosestHit hit = scan.closestPoint(fitted.V.row(best).transpose());
-    if (hit.face >= 0 && hit.distance <= maxDistance) out.emplace_back(best, hit.point);
-  }
   return out;
 }
 
