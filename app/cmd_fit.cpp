@@ -120,16 +120,7 @@ Eigen::MatrixX3d applied(const Eigen::Affine3d& T, const Eigen::MatrixX3d& P) {
 }
 
 int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
-  if (!fs::is_directory(cmd.suiteDir))
-    throw IoError(fmt::format("{} is not a folder (make one with scan2pattern bench-suite -o DIR)",
-                              cmd.suiteDir));
-  std::vector<fs::path> truths;
-  for (const auto& e : fs::directory_iterator(cmd.suiteDir))
-    if (e.is_directory() && fs::exists(e.path() / "truth.json") &&
-        (cmd.only.empty() || e.path().filename() == cmd.only))
-      truths.push_back(e.path() / "truth.json");
-  std::sort(truths.begin(), truths.end());
-  if (truths.empty()) throw IoError(fmt::format("no <name>/truth.json under {}", cmd.suiteDir));
+  const std::vector<fs::path> truths = suiteTruths(cmd.suiteDir, cmd.only);
   const BodyModel model = loadModel(cmd.model, progress);
 
   json rows = json::array();

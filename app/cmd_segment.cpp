@@ -123,17 +123,7 @@ std::pair<double, double> boundaryDifference(const fs::path& ours, const fs::pat
 
 int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
   checkSegmenter(cmd.segmenter);
-  if (!fs::is_directory(cmd.suiteDir))
-    throw IoError(fmt::format("{} is not a folder (make one with scan2pattern bench-suite -o DIR)",
-                              cmd.suiteDir));
-  std::vector<fs::path> truths;
-  for (const auto& e : fs::directory_iterator(cmd.suiteDir))
-    if (e.is_directory() && fs::exists(e.path() / "truth.json") &&
-        (cmd.only.empty() || e.path().filename() == cmd.only))
-      truths.push_back(e.path() / "truth.json");
-  std::sort(truths.begin(), truths.end());
-  if (truths.empty())
-    throw IoError(fmt::format("no <name>/truth.json under {}", cmd.suiteDir));
+  const std::vector<fs::path> truths = suiteTruths(cmd.suiteDir, cmd.only);
   const SegmentationOptions options = segmentationOptions(cmd.fast, cmd.noGapFilling);
   json rows = json::array();
   std::string table =

@@ -64,6 +64,11 @@ Image renderScan(const Scan& scan, const std::vector<View>& views, int heightPx)
 MeshAttributes colourAttributes(const Scan& scan);
 void writeJson(const std::filesystem::path& path, const nlohmann::json& j);
 
+// The truth.json of every entry of a bench-suite folder (only the entry named `only` when not
+// empty), sorted; IoError when the folder or its entries are missing.
+std::vector<std::filesystem::path> suiteTruths(const std::filesystem::path& suiteDir,
+                                               const std::string& only = {});
+
 // Feature splines, sign points and region points drawn over a body (paper Fig. 4 and Fig. 11).
 Scene featureScene(const TriMesh& mesh, const FeatureSet& fs);
 

@@ -1,10 +1,12 @@
 // Shared pieces of the command line: scan loading, the info summary, previews, JSON output.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
 
 #include "app/commands.h"
+#include "core/error.h"
 #include "core/mesh_topology.h"
 
 namespace fs = std::filesystem;
@@ -205,6 +207,22 @@ Scene featureScene(const TriMesh& mesh, const FeatureSet& fs) {
 
 void writeJson(const fs::path& path, const json& j) {
   writeFileAtomically(path, j.dump(2) + "\n");
+}
+
+std::vector<fs::path> suiteTruths(const fs::path& suiteDir, const std::string& only) {
+  if (!fs::is_directory(suiteDir))
+    throw IoError(fmt::format("{} is not a folder (make one with scan2pattern bench-suite -o DIR)",
+                              suiteDir.string()));
+  std::vector<fs::path> truths;
+  for (const auto& e : fs::directory_iterator(suiteDir))
+    if (e.is_directory() && fs::exists(e.path() / "truth.json") &&
+        (only.empty() || e.path().filename() == only))
+      truths.push_back(e.path() / "truth.json");
+  std::sort(truths.begin(), truths.end());
+  if (truths.empty())
+    throw IoError(fmt::format("no <name>/truth.json under {}{}", suiteDir.string(),
+                              only.empty() ? "" : " for the entry " + only));
+  return truths;
 }
 
 }  // namespace s2p::app
