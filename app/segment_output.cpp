@@ -165,6 +165,7 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                        {"upper_skin", s.upperSkinDeltaE},
                        {"lower_skin", s.lowerSkinDeltaE},
                        {"foot_skin", s.footSkinDeltaE}}},
+          {"skin_like_fraction", {{"upper", s.upperSkinLike}, {"lower", s.lowerSkinLike}}},
           {"region_points", s.regionPoints},
           {"dropped_region_points", s.droppedRegionPoints},
           {"seconds", s.seconds},

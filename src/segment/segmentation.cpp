@@ -510,6 +510,18 @@ class Segmenter {
 
   double deltaE(int a, int b) const { return deltaE2000(colours_.means[a], colours_.means[b]); }
 
+  // Fraction of region r's points within `threshold` of the skin's mean colour. A garment is
+  // missing when most of its region looks like skin: the region's mean colour alone would take
+  // a red-and-white striped dress (a pinkish mean) for bare skin.
+  double skinLikeFraction(int r, double threshold) const {
+    const Eigen::MatrixXd& lab = regionLab_[r];
+    if (lab.rows() == 0) return 0;
+    int n = 0;
+    for (int i = 0; i < lab.rows(); ++i)
+      n += deltaE2000(lab.row(i).transpose(), colours_.means[kSkin]) < threshold;
+    return static_cast<double>(n) / static_cast<double>(lab.rows());
+  }
+
   void decideLayout(Segmentation& out) {
     out.upperLowerDeltaE = deltaE(kUpper, kLower);
     out.upperSkinDeltaE = deltaE(kUpper, kSkin);
@@ -517,7 +529,10 @@ class Segmenter {
     out.footSkinDeltaE = hasFootRegion_ ? deltaE(kFoot, kSkin) : 0.0;
     const double same = options_.sameColourDeltaE;
     out.shoes = hasFootRegion_ && out.footSkinDeltaE >= same;
-    const bool noUpper = out.upperSkinDeltaE < same, noLower = out.lowerSkinDeltaE < same;
+    out.upperSkinLike = skinLikeFraction(kUpper, same);
+    out.lowerSkinLike = skinLikeFraction(kLower, same);
+    const bool noUpper = out.upperSkinDeltaE < same && out.upperSkinLike > 0.5;
+    const bool noLower = out.lowerSkinDeltaE < same && out.lowerSkinLike > 0.5;
     if (noUpper && noLower)
       throw InputError(fmt::format(
           "segmentation: no garment found: the upper body (ΔE {:.1f}) and the lower body (ΔE "
@@ -525,12 +540,14 @@ class Segmenter {
           out.upperSkinDeltaE, out.lowerSkinDeltaE));
     if (noUpper) {
       out.layout = GarmentLayout::LowerOnly;
-      out.notes.push_back(fmt::format("no upper garment: torso colour within ΔE {:.1f} of skin",
-                                      out.upperSkinDeltaE));
+      out.notes.push_back(fmt::format(
+          "no upper garment: torso colour within ΔE {:.1f} of skin, {:.0f} % of its points",
+          out.upperSkinDeltaE, 100 * out.upperSkinLike));
     } else if (noLower) {
       out.layout = GarmentLayout::UpperOnly;
-      out.notes.push_back(fmt::format("no lower garment: leg colour within ΔE {:.1f} of skin",
-                                      out.lowerSkinDeltaE));
+      out.notes.push_back(fmt::format(
+          "no lower garment: leg colour within ΔE {:.1f} of skin, {:.0f} % of its points",
+          out.lowerSkinDeltaE, 100 * out.lowerSkinLike));
     } else if (out.upperLowerDeltaE < same) {
       out.layout = GarmentLayout::OnePiece;
       out.notes.push_back(fmt::format(

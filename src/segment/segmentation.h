@@ -56,7 +56,8 @@ struct SegmentationOptions {
   double gapMinShift = 0.01;
   bool gapFilling = true;
   // §5.3 and the missing-garment tests: two regions are "the same colour" when the CIEDE2000
-  // difference of their mean CIELAB colours is below this.
+  // difference of their mean CIELAB colours is below this; a garment is missing when its region
+  // is the skin's colour in this sense and most of its points are within this of the skin's.
   double sameColourDeltaE = 10.0;
   // §5.3: the optimised waist boundary is "close to" the initial one when its mean height
   // differs by less than this (m); otherwise the garment on the lower side is occluded.
@@ -108,6 +109,8 @@ struct Segmentation {
   Occlusion occlusion = Occlusion::None;
   bool shoes = true;  // the foot region's colour differs from skin
   double upperLowerDeltaE = 0, upperSkinDeltaE = 0, lowerSkinDeltaE = 0, footSkinDeltaE = 0;
+  // Fraction of the upper / lower region points within sameColourDeltaE of the skin's colour.
+  double upperSkinLike = 0, lowerSkinLike = 0;
   int regionPoints = 0, droppedRegionPoints = 0;
   double seconds = 0;
   std::vector<std::string> notes;  // what was detected or skipped, for the report

@@ -67,6 +67,22 @@ TEST(Biharmonic, EqualConstraintValuesGiveThatConstant) {
   EXPECT_LT((u.array() - 0.7).abs().maxCoeff(), 1e-6);
 }
 
+// A piece of the mesh with no constraint (an island a previous cut left) does not break the
+// factorisation: it gets zero, and the constrained piece its exact constant.
+TEST(Biharmonic, UnconstrainedPieceGetsZero) {
+  const TriMesh a = makeGrid(12, 12);
+  TriMesh two = a;
+  two.V.conservativeResize(2 * a.numVertices(), 3);
+  two.V.bottomRows(a.numVertices()) = a.V.rowwise() + Eigen::RowVector3d(5, 0, 0);
+  two.F.conservativeResize(2 * a.numFaces(), 3);
+  two.F.bottomRows(a.numFaces()) = a.F.array() + a.numVertices();
+  const std::vector<ValueConstraint> c = {{SurfacePoint{3, {0.2, 0.3, 0.5}}, 0.7},
+                                          {SurfacePoint{100, {0.3, 0.3, 0.4}}, 0.7}};
+  const Eigen::VectorXd u = biharmonicFunction(two, c);
+  EXPECT_LT((u.head(a.numVertices()).array() - 0.7).abs().maxCoeff(), 1e-6);
+  EXPECT_LT(u.tail(a.numVertices()).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(Biharmonic, BadConstraintsThrowInputError) {
   const TriMesh s = makeIcosphere(1);
   Biharmonic b(s);
