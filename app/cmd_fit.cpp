@@ -108,13 +108,6 @@ struct FitSuiteCommand {
   bool noNonrigid = false;
 };
 
-Eigen::Affine3d aboutVertical(const TriMesh& mesh, double degrees) {
-  const Eigen::Vector3d c = boundingBox(mesh.V).centre();
-  const Eigen::Vector3d pivot(c.x(), 0, c.z());
-  return Eigen::Translation3d(pivot) * Eigen::Affine3d(yawRotation(degrees * M_PI / 180)) *
-         Eigen::Translation3d(-pivot);
-}
-
 Eigen::MatrixX3d applied(const Eigen::Affine3d& T, const Eigen::MatrixX3d& P) {
   return (P * T.linear().transpose()).rowwise() + T.translation().transpose();
 }
@@ -137,7 +130,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
       json row = {{"preset", name}, {"rotation_degrees", rotation}};
       try {
         LoadedScan loaded = loadScan(truthPath.parent_path() / truth.scanFile, {}, progress);
-        const Eigen::Affine3d turn = aboutVertical(loaded.scan.mesh, rotation);
+        const Eigen::Affine3d turn = turnAboutVertical(loaded.scan.mesh, rotation * M_PI / 180);
         loaded.scan.mesh.V = applied(turn, loaded.scan.mesh.V);
         loaded.scan.toInputFrame = loaded.scan.toInputFrame * turn.inverse();
         const BodyFromJson trueBody = bodyFromJson(truth.body);

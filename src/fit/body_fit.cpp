@@ -66,14 +66,6 @@ class FitCost : public ceres::CostFunction {
   const BodyModel& model_;
 };
 
-Eigen::Vector3d areaCentroid(const TriMesh& m) {
-  const Eigen::VectorXd a = faceAreas(m);
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (int f = 0; f < m.numFaces(); ++f)
-    c += a[f] * (m.V.row(m.F(f, 0)) + m.V.row(m.F(f, 1)) + m.V.row(m.F(f, 2))).transpose() / 3.0;
-  return a.sum() > 0 ? Eigen::Vector3d(c / a.sum()) : Eigen::Vector3d(m.V.colwise().mean());
-}
-
 // About `count` template vertices spread evenly over the surface: one per occupied cell of a
 // grid whose cell area is the surface area / count. Empty when the template is small enough.
 std::vector<int> sampleVertices(const TriMesh& rest, int count) {
@@ -155,7 +147,7 @@ BodyFitResult runBodyFit(const BodyFitInput& input, const BodyFitOptions& option
       // centroid onto the scan's.
       result.warnings.push_back(
           std::string("pose initialisation failed, fitting from the rest pose: ") + e.what());
-      params.pose.translation += areaCentroid(input.scan) - areaCentroid(poser.pose(params).mesh);
+      params = restPoseOnScan(input.scan, model, params.shape);
     }
   }
   const std::vector<int> subset = sampleVertices(model.rest, options.maxFitVertices);

@@ -126,12 +126,17 @@ Eigen::Matrix3d yawRotation(double yaw) {
   return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
 }
 
-TriMesh rotateAboutVertical(const TriMesh& mesh, double yaw) {
-  TriMesh out = mesh;
+Eigen::Affine3d turnAboutVertical(const TriMesh& mesh, double yaw) {
   const Eigen::Vector3d c = boundingBox(mesh.V).centre();
-  const Eigen::RowVector3d pivot(c.x(), 0, c.z());
-  const Eigen::Matrix3d R = yawRotation(yaw);
-  out.V = ((mesh.V.rowwise() - pivot) * R.transpose()).rowwise() + pivot;
+  const Eigen::Vector3d pivot(c.x(), 0, c.z());
+  return Eigen::Translation3d(pivot) * Eigen::Affine3d(yawRotation(yaw)) *
+         Eigen::Translation3d(-pivot);
+}
+
+TriMesh rotateAboutVertical(const TriMesh& mesh, double yaw) {
+  const Eigen::Affine3d T = turnAboutVertical(mesh, yaw);
+  TriMesh out = mesh;
+  out.V = (mesh.V * T.linear().transpose()).rowwise() + T.translation().transpose();
   return out;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,9 @@ Orientation estimateOrientation(const TriMesh& scan, const OrientationOptions& o
 
 // Rotation about +Y by `yaw` radians (right-handed).
 Eigen::Matrix3d yawRotation(double yaw);
-// The scan rotated about the vertical axis through its bounding-box centre (x, z) by `yaw`.
+// Rotation by `yaw` about the vertical axis through the bounding-box centre (x, z) of `mesh`.
+Eigen::Affine3d turnAboutVertical(const TriMesh& mesh, double yaw);
+// The mesh turned by turnAboutVertical(mesh, yaw).
 TriMesh rotateAboutVertical(const TriMesh& mesh, double yaw);
 
 }  // namespace s2p

@@ -90,6 +90,14 @@ std::optional<Eigen::Vector3d> ringCentroid(const TriMesh& m, const Eigen::Vecto
   return Eigen::Vector3d(c / n);
 }
 
+Eigen::Vector3d areaCentroid(const TriMesh& m) {
+  const Eigen::VectorXd a = faceAreas(m);
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int f = 0; f < m.numFaces(); ++f)
+    c += a[f] * (m.V.row(m.F(f, 0)) + m.V.row(m.F(f, 1)) + m.V.row(m.F(f, 2))).transpose() / 3.0;
+  return a.sum() > 0 ? Eigen::Vector3d(c / a.sum()) : Eigen::Vector3d(m.V.colwise().mean());
+}
+
 Eigen::Vector3d row(const Eigen::MatrixX3d& M, Canonical c) {
   return M.row(static_cast<int>(c)).transpose();
 }
@@ -319,23 +327,40 @@ BodyParams solveInverseKinematics(const BodyModel& model, const BodyParams& star
   return out;
 }
 
-BodyParams initialisePose(const TriMesh& scan, const BodyModel& model,
-                          const Eigen::VectorXd& shapeIn, const PoseInitOptions& opt) {
-  const Eigen::VectorXd shape =
-      shapeIn.size() ? shapeIn : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
-  const Extremities e = findExtremities(scan, model, shape, opt);
+BodyParams poseFromTargets(const BodyModel& model, const Eigen::VectorXd& shapeIn,
+                           const std::vector<JointTarget>& targets, const PoseInitOptions& opt) {
+  if (targets.size() < 4)
+    throw InputError("pose initialisation: " + std::to_string(targets.size()) +
+                     " usable joint targets; at least 4 are needed to pose the body");
   BodyParams start;
-  start.shape = shape;
+  start.shape =
+      shapeIn.size() ? shapeIn : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
   start.pose = BodyPose::zero(model.numJoints());
   // Start with the rest body's canonical centroid on the targets' centroid.
   const PosedBody rb = poseBody(model, start);
   Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
-  for (const auto& t : e.targets) {
+  for (const auto& t : targets) {
     a += t.position;
     b += row(rb.canonical, t.joint);
   }
-  start.pose.translation = (a - b) / static_cast<double>(e.targets.size());
-  return solveInverseKinematics(model, start, e.targets, opt);
+  start.pose.translation = (a - b) / static_cast<double>(targets.size());
+  return solveInverseKinematics(model, start, targets, opt);
+}
+
+BodyParams initialisePose(const TriMesh& scan, const BodyModel& model,
+                          const Eigen::VectorXd& shapeIn, const PoseInitOptions& opt) {
+  const Eigen::VectorXd shape =
+      shapeIn.size() ? shapeIn : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
+  return poseFromTargets(model, shape, findExtremities(scan, model, shape, opt).targets, opt);
+}
+
+BodyParams restPoseOnScan(const TriMesh& scan, const BodyModel& model,
+                          const Eigen::VectorXd& shape) {
+  BodyParams p;
+  p.shape = shape.size() ? shape : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
+  p.pose = BodyPose::zero(model.numJoints());
+  p.pose.translation = areaCentroid(scan) - areaCentroid(poseBody(model, p).mesh);
+  return p;
 }
 
 }  // namespace s2p

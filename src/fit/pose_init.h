@@ -48,8 +48,19 @@ BodyParams solveInverseKinematics(const BodyModel& model, const BodyParams& star
                                   const std::vector<JointTarget>& targets,
                                   const PoseInitOptions& options = {});
 
-// findExtremities then solveInverseKinematics from the rest pose placed at the scan.
+// solveInverseKinematics from the rest pose moved onto the targets' centroid. Throws InputError
+// for fewer than 4 targets.
+BodyParams poseFromTargets(const BodyModel& model, const Eigen::VectorXd& shape,
+                           const std::vector<JointTarget>& targets,
+                           const PoseInitOptions& options = {});
+
+// findExtremities then poseFromTargets.
 BodyParams initialisePose(const TriMesh& scan, const BodyModel& model,
                           const Eigen::VectorXd& shape = {}, const PoseInitOptions& options = {});
+
+// The fallback when no pose can be found (BSE's translateTo): the rest pose with the body's
+// area centroid on the scan's.
+BodyParams restPoseOnScan(const TriMesh& scan, const BodyModel& model,
+                          const Eigen::VectorXd& shape = {});
 
 }  // namespace s2p

@@ -46,25 +46,6 @@ TriMesh transformed(const TriMesh& m, const Eigen::Affine3d& T) {
   return out;
 }
 
-// The pose from joint targets: inverse kinematics from the rest body moved onto them.
-BodyParams poseFromTargets(const BodyModel& model, const std::vector<JointTarget>& targets,
-                           const PoseInitOptions& options) {
-  if (targets.size() < 4)
-    throw InputError("fit: " + std::to_string(targets.size()) +
-                     " usable keypoints; at least 4 are needed to pose the body");
-  BodyParams start;
-  start.shape = Eigen::VectorXd::Zero(model.numShapes());
-  start.pose = BodyPose::zero(model.numJoints());
-  const PosedBody rest = poseBody(model, start);
-  Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
-  for (const JointTarget& t : targets) {
-    a += t.position;
-    b += rest.canonical.row(static_cast<int>(t.joint)).transpose();
-  }
-  start.pose.translation = (a - b) / static_cast<double>(targets.size());
-  return solveInverseKinematics(model, start, targets, options);
-}
-
 }  // namespace
 
 TriMesh ScanFit::fittedInScanFrame() const { return transformed(fit.body.mesh, toScan); }
@@ -112,11 +93,7 @@ ScanFit fitScan(const TriMesh& scanIn, const BodyModel& model, const ScanFitOpti
         "); if the fit looks turned, give keypoints (--keypoints) from the seven views of "
         "render-views");
   // The fitting frame: the scan turned about the vertical through its bounding-box centre.
-  const Eigen::Vector3d c = boundingBox(scanIn.V).centre();
-  const Eigen::Vector3d pivot(c.x(), 0, c.z());
-  Eigen::Affine3d toFit = Eigen::Translation3d(pivot) *
-                          Eigen::Affine3d(yawRotation(out.orientation.yaw)) *
-                          Eigen::Translation3d(-pivot);
+  const Eigen::Affine3d toFit = turnAboutVertical(scanIn, out.orientation.yaw);
   out.toScan = toFit.inverse();
   BodyFitInput input;
   input.scan = transformed(scanIn, toFit);
@@ -128,7 +105,7 @@ ScanFit fitScan(const TriMesh& scanIn, const BodyModel& model, const ScanFitOpti
       if (options.keypoints) {
         std::vector<JointTarget> targets = *options.keypoints;
         for (JointTarget& t : targets) t.position = toFit * t.position;
-        return poseFromTargets(model, targets, options.poseInit);
+        return poseFromTargets(model, {}, targets, options.poseInit);
       }
       return initialisePose(input.scan, model, {}, options.poseInit);
     } catch (const InputError& e) {
@@ -137,14 +114,7 @@ ScanFit fitScan(const TriMesh& scanIn, const BodyModel& model, const ScanFitOpti
       out.initialisation = "rest";
       out.warnings.push_back(std::string("pose initialisation failed, fitting from the rest "
                                          "pose: ") + e.what());
-      BodyParams rest;
-      rest.shape = Eigen::VectorXd::Zero(model.numShapes());
-      rest.pose = BodyPose::zero(model.numJoints());
-      const TriMesh restMesh = poseBody(model, rest).mesh;
-      const BoundingBox scanBox = boundingBox(input.scan.V), bodyBox = boundingBox(restMesh.V);
-      rest.pose.translation = scanBox.centre() - bodyBox.centre();
-      rest.pose.translation.y() = scanBox.min.y() - bodyBox.min.y();
-      return rest;
+      return restPoseOnScan(input.scan, model);
     }
   });
 

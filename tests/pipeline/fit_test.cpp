@@ -38,13 +38,6 @@ JointErrors jointErrors(const Eigen::MatrixX3d& fitted, const Eigen::MatrixX3d& 
   return e;
 }
 
-Eigen::Affine3d turnAboutVertical(const TriMesh& mesh, double radians) {
-  const Eigen::Vector3d c = boundingBox(mesh.V).centre();
-  const Eigen::Vector3d pivot(c.x(), 0, c.z());
-  return Eigen::Translation3d(pivot) * Eigen::Affine3d(yawRotation(radians)) *
-         Eigen::Translation3d(-pivot);
-}
-
 TEST(ScanFit, FindsTheBodyUnderTshirtAndTrousers_Slow) {
   const SynthCase& c = synthCase("tshirt_trousers", 12000);
   const ScanFit fit = fitScan(c.scan.scan.mesh, mannequin(), rigidOnly());
