@@ -20,6 +20,58 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+Eigen::VectorXd regionSigns(const TriMesh& mesh, const MeshTopology& topology,
+                            const Eigen::VectorXd& area, const Isoline& iso,
+                            const Eigen::VectorXd& phiB,
+                            const std::vector<ValueConstraint>& constraints,
+                            const Eigen::VectorXd& votes) {
+  const int nV = mesh.numVertices();
+  std::vector<char> blocked(topology.edges().rows(), 0);
+  for (const IsolineCurve& c : iso.curves)
+    for (const IsolinePoint& p : c.points) blocked[p.edge] = 1;
+  std::vector<std::vector<std::pair<int, int>>> adj(nV);  // (neighbour, edge)
+  for (int e = 0; e < topology.edges().rows(); ++e) {
+    const int a = topology.edges()(e, 0), b = topology.edges()(e, 1);
+    adj[a].push_back({b, e});
+    adj[b].push_back({a, e});
+  }
+  std::vector<int> region(nV, -1);
+  int regions = 0;
+  for (int s = 0; s < nV; ++s) {
+    if (region[s] >= 0) continue;
+    std::vector<int> stack{s};
+    region[s] = regions;
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      for (auto [w, e] : adj[v])
+        if (!blocked[e] && region[w] < 0) {
+          region[w] = regions;
+          stack.push_back(w);
+        }
+    }
+    ++regions;
+  }
+  Eigen::VectorXd vote = Eigen::VectorXd::Zero(regions), signVote = Eigen::VectorXd::Zero(regions);
+  for (int v = 0; v < nV; ++v) vote[region[v]] += area[v] * (votes[v] < 0 ? -1.0 : 1.0);
+  for (const ValueConstraint& c : constraints) {
+    if (c.value == 0) continue;
+    int corner = 0;
+    c.point.bary.maxCoeff(&corner);
+    signVote[region[mesh.F(c.point.face, corner)]] += c.value;
+  }
+  Eigen::VectorXd sign(nV);
+  for (int v = 0; v < nV; ++v) {
+    const int r = region[v];
+    const double s = signVote[r] != 0 ? signVote[r] : vote[r];
+    sign[v] = s < 0 ? -1.0 : 1.0;
+  }
+  // Keep φ_b's own value where it agrees, so the kept curves stay exactly its zero set.
+  for (int v = 0; v < nV; ++v)
+    if ((phiB[v] < 0) == (sign[v] < 0)) sign[v] = phiB[v];
+  return sign;
+}
+
 struct BoundaryOptimizer::Impl {
   TriMesh mesh;
   BoundaryOptions options;
@@ -49,14 +101,20 @@ struct BoundaryOptimizer::Impl {
   // With `constraints` (φ_b of those constraints): loops of the isoline that pass through no
   // constrained face are dropped — the biharmonic extrapolates far from its constraints and may
   // change sign there (around the feet, for B(U|S)); such a loop is not the spline — and each
-  // region the kept curves enclose takes the sign of its sign points, else of most of its area.
+  // region the kept curves enclose takes the sign of its sign points, else of most of its area
+  // by `votes` (φ_b itself when null). In the iteration the votes are φ̄, the field whose zero
+  // set φ_b is solved to pass through: φ_b's own sign far from the curve is extrapolation, and
+  // a region it flips there (a whole leg, for B(U|L) under a long top) is not on the colour's
+  // evidence.
   Eigen::VectorXd signedFromBiharmonic(const Eigen::VectorXd& phiB,
-                                       const std::vector<ValueConstraint>* constraints = nullptr) {
+                                       const std::vector<ValueConstraint>* constraints = nullptr,
+                                       const Eigen::VectorXd* votes = nullptr) {
     auto t0 = std::chrono::steady_clock::now();
     Isoline iso = extractIsoline(mesh, topology, phiB);
     timings.isoline += secondsSince(t0);
     Eigen::VectorXd sign = phiB;
-    if (constraints && dropStrayLoops(iso, *constraints)) sign = regionSigns(iso, phiB, *constraints);
+    if (constraints && (dropStrayLoops(iso, *constraints) || votes))
+      sign = regionSigns(mesh, topology, area, iso, phiB, *constraints, votes ? *votes : phiB);
     if (iso.curves.empty()) return {};
     t0 = std::chrono::steady_clock::now();
     Eigen::VectorXd phi =
@@ -85,57 +143,6 @@ struct BoundaryOptimizer::Impl {
       return true;
     });
     return iso.curves.size() != before;
-  }
-
-  // ±1 per vertex: regions between the kept curves (flood fill over edges no curve crosses),
-  // signed by their sign points, or by the sign of φ_b over most of their area.
-  Eigen::VectorXd regionSigns(const Isoline& iso, const Eigen::VectorXd& phiB,
-                              const std::vector<ValueConstraint>& constraints) {
-    const int nV = mesh.numVertices();
-    std::vector<char> blocked(topology.edges().rows(), 0);
-    for (const IsolineCurve& c : iso.curves)
-      for (const IsolinePoint& p : c.points) blocked[p.edge] = 1;
-    std::vector<std::vector<std::pair<int, int>>> adj(nV);  // (neighbour, edge)
-    for (int e = 0; e < topology.edges().rows(); ++e) {
-      const int a = topology.edges()(e, 0), b = topology.edges()(e, 1);
-      adj[a].push_back({b, e});
-      adj[b].push_back({a, e});
-    }
-    std::vector<int> region(nV, -1);
-    int regions = 0;
-    for (int s = 0; s < nV; ++s) {
-      if (region[s] >= 0) continue;
-      std::vector<int> stack{s};
-      region[s] = regions;
-      while (!stack.empty()) {
-        const int v = stack.back();
-        stack.pop_back();
-        for (auto [w, e] : adj[v])
-          if (!blocked[e] && region[w] < 0) {
-            region[w] = regions;
-            stack.push_back(w);
-          }
-      }
-      ++regions;
-    }
-    Eigen::VectorXd vote = Eigen::VectorXd::Zero(regions), signVote = Eigen::VectorXd::Zero(regions);
-    for (int v = 0; v < nV; ++v) vote[region[v]] += area[v] * (phiB[v] < 0 ? -1.0 : 1.0);
-    for (const ValueConstraint& c : constraints) {
-      if (c.value == 0) continue;
-      int corner = 0;
-      c.point.bary.maxCoeff(&corner);
-      signVote[region[mesh.F(c.point.face, corner)]] += c.value;
-    }
-    Eigen::VectorXd sign(nV);
-    for (int v = 0; v < nV; ++v) {
-      const int r = region[v];
-      const double s = signVote[r] != 0 ? signVote[r] : vote[r];
-      sign[v] = s < 0 ? -1.0 : 1.0;
-    }
-    // Keep φ_b's own value where it agrees, so the kept curves stay exactly its zero set.
-    for (int v = 0; v < nV; ++v)
-      if ((phiB[v] < 0) == (sign[v] < 0)) sign[v] = phiB[v];
-    return sign;
   }
 
   Eigen::VectorXd solveBiharmonic(const std::vector<ValueConstraint>& zeros,
@@ -201,7 +208,7 @@ Eigen::VectorXd BoundaryOptimizer::recomputeImplicit(const Eigen::VectorXd& fiel
   std::vector<ValueConstraint> all = zeroConstraints(iso);
   const Eigen::VectorXd phiB = d.solveBiharmonic(all, signs);
   all.insert(all.end(), signs.begin(), signs.end());
-  return d.signedFromBiharmonic(phiB, &all);
+  return d.signedFromBiharmonic(phiB, &all, &field);
 }
 
 BoundaryResult BoundaryOptimizer::run(const std::vector<std::vector<SurfacePoint>>& splines,

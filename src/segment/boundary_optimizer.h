@@ -18,6 +18,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/mesh_topology.h"
 #include "core/surface_point.h"
 #include "core/tri_mesh.h"
 #include "segment/biharmonic.h"
@@ -108,6 +109,16 @@ class BoundaryOptimizer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// ±1 per vertex, or φ_b's own value where it agrees: the regions between the curves of `iso`
+// (flood fill over the edges no curve crosses) take the sign of the sign points they hold
+// (constraints with a non-zero value), else the sign of `votes` over most of their area (area:
+// #V lumped mass). How the iteration signs the distance from φ_b's zero set (§5.1.3).
+Eigen::VectorXd regionSigns(const TriMesh& mesh, const MeshTopology& topology,
+                            const Eigen::VectorXd& area, const Isoline& iso,
+                            const Eigen::VectorXd& phiB,
+                            const std::vector<ValueConstraint>& constraints,
+                            const Eigen::VectorXd& votes);
 
 // One-shot version.
 BoundaryResult optimizeBoundary(const TriMesh& mesh,

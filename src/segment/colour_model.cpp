@@ -176,6 +176,40 @@ Eigen::MatrixX3d smoothVertexColours(const TriMesh& mesh, const Eigen::MatrixX3d
   return c;
 }
 
+GaussianMixture withoutBorrowedComponents(const GaussianMixture& model,
+                                          const GaussianMixture& other, double maxShare,
+                                          double* droppedWeight) {
+  constexpr double kChi2Three95 = 7.815;  // 95 % quantile of χ² with 3 degrees of freedom
+  if (droppedWeight) *droppedWeight = 0;
+  std::vector<int> kept;
+  double dropped = 0;
+  for (int k = 0; k < model.components(); ++k) {
+    bool explained = false;
+    for (int j = 0; j < other.components() && !explained; ++j) {
+      const Eigen::Vector3d d = (model.means.row(k) - other.means.row(j)).transpose();
+      explained = d.dot(other.covariances[j].ldlt().solve(d)) < kChi2Three95;
+    }
+    if (explained)
+      dropped += model.weights[k];
+    else
+      kept.push_back(k);
+  }
+  if (kept.empty() || dropped >= maxShare || kept.size() == static_cast<size_t>(model.components()))
+    return model;
+  if (droppedWeight) *droppedWeight = dropped;
+  GaussianMixture out = model;
+  const int n = static_cast<int>(kept.size());
+  out.weights.resize(n);
+  out.means.resize(n, 3);
+  out.covariances.clear();
+  for (int i = 0; i < n; ++i) {
+    out.weights[i] = model.weights[kept[i]] / (1 - dropped);
+    out.means.row(i) = model.means.row(kept[i]);
+    out.covariances.push_back(model.covariances[kept[i]]);
+  }
+  return out;
+}
+
 RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
                                const std::vector<std::vector<SurfacePoint>>& regions,
                                const ColourModelOptions& options) {

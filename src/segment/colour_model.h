@@ -49,6 +49,17 @@ struct GaussianMixture {
 // has fewer rows than the requested components.
 GaussianMixture fitGaussianMixture(const Eigen::MatrixX3d& X, const GmmOptions& options = {});
 
+// `model` without the components that `other` already explains: a component goes when its mean
+// lies inside the 95 % ellipsoid (Mahalanobis² < 7.81) of one of other's components, and the
+// dropped ones together hold less than `maxShare` of the weight; the rest are renormalised.
+// For a region whose points can stray onto another label's garment (the hip points of the lower
+// region land on a top worn untucked): the strays form a minority component the other region's
+// mixture already has, and left in they make that garment's colour ambiguous. `dropped`, when
+// given, receives the weight removed (0 when the model is returned whole).
+GaussianMixture withoutBorrowedComponents(const GaussianMixture& model,
+                                          const GaussianMixture& other, double maxShare = 0.5,
+                                          double* dropped = nullptr);
+
 // φ_d = 2(P(positive | x) − ½) per row of lab (#N×3) with equal label priors: a label's
 // region points reflect the feature layout, not its area. models: one mixture per label;
 // positive[i] says which side label i pushes to (+1). Throws InputError when the sizes

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/laplacian.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 #include "core/shapes.h"
@@ -148,6 +149,49 @@ TEST(BoundaryOptimizer, FastPathReachesTheFaithfulBoundaryOnTheCylinder_Slow) {
   ASSERT_EQ(fast.boundary.curves.size(), 1u);
   EXPECT_NEAR(meanY(fast.boundary), meanY(faithful.boundary), 0.001);
   EXPECT_LT(fast.timings.biharmonic, faithful.timings.biharmonic);  // only φ₀ uses it
+}
+
+// φ_b far from its zero constraints is extrapolation: a band where it turns positive again
+// (here below y = 0.125, under a curve at y = 0.5) takes the sign that the votes (the
+// regularised field φ̄ in the iteration) give its area, unless a sign point in it says otherwise.
+TEST(BoundaryOptimizer, RegionWithoutSignPointsTakesTheSignOfTheVotes) {
+  const TriMesh m = makeCylinder(40, 24, 0.1, 1.0);
+  const MeshTopology topology(m.F, m.numVertices());
+  const Eigen::VectorXd area = vertexAreas(m);
+  const int nV = m.numVertices();
+  Eigen::VectorXd phiB(nV), votes(nV);
+  int top = 0, bottom = 0;
+  for (int v = 0; v < nV; ++v) {
+    const double y = m.V(v, 1);
+    votes[v] = y - 0.5;
+    phiB[v] = y >= 0.25 ? y - 0.5 : -0.25 + 2 * (0.25 - y);
+    if (y > m.V(top, 1)) top = v;
+    if (y < m.V(bottom, 1)) bottom = v;
+  }
+  const Isoline iso = extractIsoline(m, topology, phiB);
+  ASSERT_EQ(iso.curves.size(), 2u);
+  std::vector<ValueConstraint> constraints{{SurfacePoint::atVertex(m.F, top), 1.0}};
+
+  auto signAt = [&](const Eigen::VectorXd& sign, double lo, double hi, int want) {
+    for (int v = 0; v < nV; ++v)
+      if (m.V(v, 1) > lo && m.V(v, 1) < hi) {
+        EXPECT_GT(want * sign[v], 0) << "y = " << m.V(v, 1);
+      }
+  };
+  const Eigen::VectorXd byVotes = regionSigns(m, topology, area, iso, phiB, constraints, votes);
+  signAt(byVotes, -1, 0.45, -1);
+  signAt(byVotes, 0.55, 2, +1);
+  // Where the sign agrees, φ_b's value is kept (the curve at y = 0.5 stays its zero set).
+  for (int v = 0; v < nV; ++v) {
+    if (m.V(v, 1) > 0.55) {
+      EXPECT_DOUBLE_EQ(byVotes[v], phiB[v]);
+    }
+  }
+  // φ_b voting for itself keeps the stray band positive.
+  signAt(regionSigns(m, topology, area, iso, phiB, constraints, phiB), -1, 0.1, +1);
+  // A sign point in the band outvotes the area.
+  constraints.push_back({SurfacePoint::atVertex(m.F, bottom), 1.0});
+  signAt(regionSigns(m, topology, area, iso, phiB, constraints, votes), -1, 0.1, +1);
 }
 
 TEST(BoundaryOptimizer, BadInputThrowsInputError) {

@@ -62,6 +62,59 @@ TEST(ColourModel, TwoModesPerLabelAreRecoveredWithinOneDeltaE) {
   EXPECT_NEAR(g.covariances[first](0, 0), 5.0, 1.0);
 }
 
+// Lab samples around `means` (one row per cluster, `counts` each), σ = 2 ΔE per axis.
+Eigen::MatrixX3d clusters(const std::vector<Eigen::RowVector3d>& means,
+                          const std::vector<int>& counts, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0, 2.0);
+  int total = 0;
+  for (int c : counts) total += c;
+  Eigen::MatrixX3d X(total, 3);
+  int row = 0;
+  for (size_t k = 0; k < means.size(); ++k)
+    for (int i = 0; i < counts[k]; ++i)
+      X.row(row++) = means[k] + Eigen::RowVector3d(n(rng), n(rng), n(rng));
+  return X;
+}
+
+TEST(ColourModel, BorrowedMinorityComponentIsDroppedAndTheRestRenormalised) {
+  // The lower region: navy trousers (80 %) and, where its points land on a top worn untucked,
+  // the top's red (20 %). The upper region: the red top alone.
+  const Eigen::RowVector3d navy(25, 8, -25), red(45, 55, 30);
+  const GaussianMixture upper = fitGaussianMixture(clusters({red}, {200}, 1), {.seed = 2});
+  const GaussianMixture lower =
+      fitGaussianMixture(clusters({navy, red}, {160, 40}, 3), {.seed = 4});
+  ASSERT_EQ(lower.components(), 2);
+  double dropped = -1;
+  const GaussianMixture pruned = withoutBorrowedComponents(lower, upper, 0.5, &dropped);
+  ASSERT_EQ(pruned.components(), 1);
+  EXPECT_LT((pruned.means.row(0) - navy).norm(), 1.0);
+  EXPECT_DOUBLE_EQ(pruned.weights.sum(), 1.0);
+  EXPECT_NEAR(dropped, 0.2, 0.02);
+  // The red is then the upper garment's alone: φ_d > 0.99 there, < −0.99 on the navy.
+  const Eigen::MatrixX3d probe = (Eigen::MatrixX3d(2, 3) << red, navy).finished();
+  const Eigen::VectorXd withStrays = posteriorDisplacement({upper, lower}, {true, false}, probe);
+  const Eigen::VectorXd without = posteriorDisplacement({upper, pruned}, {true, false}, probe);
+  EXPECT_LT(withStrays[0], 0.9);
+  EXPECT_GT(without[0], 0.99);
+  EXPECT_LT(without[1], -0.99);
+}
+
+TEST(ColourModel, MajorityOrUnexplainedComponentsAreKept) {
+  const Eigen::RowVector3d navy(25, 8, -25), red(45, 55, 30), grey(60, 0, 0);
+  const GaussianMixture upper = fitGaussianMixture(clusters({red}, {200}, 1), {.seed = 2});
+  // One colour for both garments (a one-piece look): the shared component is most of the
+  // weight and stays.
+  const GaussianMixture same = fitGaussianMixture(clusters({red, navy}, {150, 50}, 5), {.seed = 6});
+  ASSERT_EQ(same.components(), 2);
+  double dropped = -1;
+  EXPECT_EQ(withoutBorrowedComponents(same, upper, 0.5, &dropped).components(), 2);
+  EXPECT_EQ(dropped, 0.0);
+  // Nothing the upper model explains: unchanged.
+  const GaussianMixture other = fitGaussianMixture(clusters({navy, grey}, {150, 50}, 7), {.seed = 8});
+  EXPECT_EQ(withoutBorrowedComponents(other, upper).components(), other.components());
+}
+
 TEST(ColourModel, SameSeedSameFit) {
   Eigen::MatrixX3d X = Eigen::MatrixX3d::Random(300, 3) * 20;
   const GaussianMixture a = fitGaussianMixture(X, {.components = 3, .seed = 9});
