@@ -87,6 +87,35 @@ void startCommon(cholmod_common& c) {
   c.supernodal = CHOLMOD_SUPERNODAL;
 }
 
+// CHOLMOD's supernodal factorisation calls BLAS on many small dense blocks. OpenBLAS's worker
+// threads spin-wait between those calls: on two cores they cost more than they give (a
+// segmentation spent three quarters of its time in the kernel). One BLAS thread, unless
+// OPENBLAS_NUM_THREADS asks otherwise; looked up at run time so that any BLAS links.
+void useOneBlasThread() {
+  static const bool done = [] {
+    if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr)
+      if (auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+        set(1);
+    return true;
+  }();
+  (void)done;
+}
+
+// The same for OpenMP: Debian's CHOLMOD opens a parallel region of a fixed thread count for
+// every large supernode, and the wake-ups cost more than the copies they share (futex calls
+// were half of a segmentation's time, 50 s against 18 s with one thread). Dynamic adjustment
+// lets the runtime give the region only the cores that are idle. The setting belongs to the
+// calling thread, so every thread that factors sets it once.
+void useIdleOpenMpThreads() {
+  thread_local const bool done = [] {
+    if (std::getenv("OMP_DYNAMIC") == nullptr)
+      if (auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic")))
+        set(1);
+    return true;
+  }();
+  (void)done;
+}
+
 }  // namespace
 
 struct SpdSolver::Impl {
@@ -116,6 +145,7 @@ struct SpdSolver::Impl {
   void factorize(LowerCsc& L) {
     numericValid = false;
     cholmod_sparse s = view(L);
+    useIdleOpenMpThreads();
     const int ok = cholmod_factorize(&s, factor, &common);
     if (common.status == CHOLMOD_NOT_POSDEF || (ok && factor->minor < factor->n)) {
       const size_t k = factor->minor;
@@ -135,24 +165,6 @@ struct SpdSolver::Impl {
     numericValid = true;
   }
 };
-
-namespace {
-
-// CHOLMOD's supernodal factorisation calls BLAS on many small dense blocks. OpenBLAS's worker
-// threads spin-wait between those calls: on two cores they cost more than they give (a
-// segmentation spent three quarters of its time in the kernel). One BLAS thread, unless
-// OPENBLAS_NUM_THREADS asks otherwise; looked up at run time so that any BLAS links.
-void useOneBlasThread() {
-  static const bool done = [] {
-    if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr)
-      if (auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
-        set(1);
-    return true;
-  }();
-  (void)done;
-}
-
-}  // namespace
 
 SpdSolver::SpdSolver(Ordering ordering) : impl_(std::make_unique<Impl>(ordering)) {
   useOneBlasThread();

@@ -422,11 +422,17 @@ class Segmenter {
     const auto t0 = Clock::now();
     Segmentation out;
     decideLayout(out);
-    if (borrowedLowerWeight_ > 0 && out.layout == GarmentLayout::UpperLower)
+    // The chest is covered by any top; the hips are not when the top is worn untucked, and their
+    // points then teach the lower model the top's colours.
+    double borrowed = 0;
+    if (out.layout == GarmentLayout::UpperLower)
+      colours_.models[kLower] = withoutBorrowedComponents(colours_.models[kLower],
+                                                          colours_.models[kUpper], 0.5, &borrowed);
+    if (borrowed > 0)
       out.notes.push_back(fmt::format(
           "{:.0f} % of the lower region's points have the upper garment's colours (a top worn "
           "over the waistband): left out of the lower colour model",
-          100 * borrowedLowerWeight_));
+          100 * borrowed));
     LabelAreas labels(scan_.numVertices(), scan_.numFaces());
     const bool hasUpper = out.layout != GarmentLayout::LowerOnly;
     const bool hasLower = out.layout != GarmentLayout::UpperOnly;
@@ -505,10 +511,6 @@ class Segmenter {
     for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
-    // The chest is covered by any top; the hips are not when the top is worn untucked, and their
-    // points then teach the lower model the top's colours.
-    colours_.models[kLower] = withoutBorrowedComponents(
-        colours_.models[kLower], colours_.models[kUpper], 0.5, &borrowedLowerWeight_);
     const Eigen::MatrixXd lab = colours_.lab;
     for (int r = 0; r < 4; ++r) {
       regionLab_[r].resize(static_cast<int>(regions[r].size()), 3);
@@ -867,7 +869,6 @@ class Segmenter {
   ProjectedCurve upperSkin_, lowerSkin_, upperLower_;
   RegionColours colours_;
   bool hasFootRegion_ = false;
-  double borrowedLowerWeight_ = 0;  // weight of the lower model's components the upper explains
   std::vector<Vec3> footPoints_;  // projected foot region points
   std::array<Eigen::MatrixX3d, 4> regionLab_;  // CIELAB at each region's points
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
