@@ -146,15 +146,12 @@ void placeLandmarks(BodyModel& m, const std::string& src) {
 std::vector<std::string> smplJointNames(int numJoints) {
   std::vector<std::string> names = bodyJointNames();
   if (numJoints == 24) {
-    names.push_back("left_hand");
-    names.push_back("right_hand");
+    names.insert(names.end(), {"left_hand", "right_hand"});
   } else if (numJoints == 52) {
     appendFingers(names, "left");
     appendFingers(names, "right");
   } else if (numJoints == 55) {
-    names.push_back("jaw");
-    names.push_back("left_eye_smplhf");
-    names.push_back("right_eye_smplhf");
+    names.insert(names.end(), {"jaw", "left_eye_smplhf", "right_eye_smplhf"});
     appendFingers(names, "left");
     appendFingers(names, "right");
   } else {

@@ -1,6 +1,7 @@
 #include "segment/segmentation.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -216,20 +217,22 @@ double distanceToCurves(const Vec3& p, const Isoline& iso) {
 }
 
 // Symmetric mean distance between two isolines (each point to the other curve set).
-double meanCurveDistance(const Isoline& a, const Isoline& b) {
+// The 95th percentile of the distances from every point of either boundary to the other: a
+// boundary that moved across a gap somewhere, even over a short stretch, scores the width of
+// the gap; one nudged everywhere scores the nudge.
+double curveShift(const Isoline& a, const Isoline& b) {
   if (a.curves.empty() || b.curves.empty()) return std::numeric_limits<double>::infinity();
-  double sum = 0;
-  int count = 0;
+  std::vector<double> d;
   for (const auto* pair : {&a, &b}) {
     const Isoline& from = *pair;
     const Isoline& to = pair == &a ? b : a;
     for (const IsolineCurve& c : from.curves)
-      for (const IsolinePoint& p : c.points) {
-        sum += distanceToCurves(p.position, to);
-        ++count;
-      }
+      for (const IsolinePoint& p : c.points) d.push_back(distanceToCurves(p.position, to));
   }
-  return count ? sum / count : 0.0;
+  if (d.empty()) return 0.0;
+  const size_t k = static_cast<size_t>(0.95 * static_cast<double>(d.size() - 1));
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(k), d.end());
+  return d[k];
 }
 
 // Eq. (5): φ_dn(u) = max(2(|o·n_u| − ½), 0) with o the normal of the plane fitted to the
@@ -695,7 +698,7 @@ class Segmenter {
                                                        run.result.phi, 0.25 * height_);
       BoundaryResult second = optimizer.iterate(run.result.phi, f.signs, phiD + phiDn);
       rep.gapPass = true;
-      rep.gapShift = meanCurveDistance(second.boundary, run.result.boundary);
+      rep.gapShift = curveShift(second.boundary, run.result.boundary);
       if (!second.vanished && rep.gapShift > options_.gapMinShift) {
         rep.gapApplied = true;
         second.phi0 = run.result.phi0;

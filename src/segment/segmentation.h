@@ -50,9 +50,10 @@ struct SegmentationOptions {
   ProjectionOptions projection;  // bodyLength is set from the body's height
   double splineSpacing = 0.005;  // m between samples of the initial surface spline
   // §5.2: the second pass with the normal displacement (Eq. 5–6) replaces the first pass's
-  // boundary when it moves it by more than this mean distance (m): a gap was bridged. Below,
-  // the first pass stands (on a scan without gap triangles Eq. 6 only nudges the boundary
-  // over the hem's riser).
+  // boundary when it moves it by more than this (m, 95th percentile of the distances between
+  // the two, so that a gap bridged over part of a hem counts): a gap was bridged. Below, the
+  // first pass stands (on a scan without gap triangles Eq. 6 only nudges the boundary over the
+  // hem's riser, 2–6 mm).
   double gapMinShift = 0.01;
   bool gapFilling = true;
   // §5.3 and the missing-garment tests: two regions are "the same colour" when the CIEDE2000
@@ -83,7 +84,7 @@ struct BoundaryReport {
   bool vanished = false;    // the zero set disappeared: one side took the whole mesh
   bool gapPass = false;     // the Eq. 6 pass was run
   bool gapApplied = false;  // ... and its boundary was kept
-  double gapShift = 0;      // mean distance (m) between the two passes' boundaries
+  double gapShift = 0;      // 95th percentile distance (m) between the two passes' boundaries
   int islandsRemoved = 0;   // regions below minRegionArea merged into their surroundings
   double seconds = 0;
   BoundaryTimings timings;

@@ -25,8 +25,12 @@ TEST(GarmentCompletion, BandBlendsFromFixedPartToRimTarget) {
   const Eigen::MatrixX3d V = biharmonicDeformation(g, rim, targets, fixed);
   for (int v = 0; v < g.numVertices(); ++v) {
     const double x = g.V(v, 0), dz = V(v, 2) - g.V(v, 2);
-    if (fixed[v]) EXPECT_EQ(V.row(v), g.V.row(v));
-    if (x > 1 - 1e-9) EXPECT_NEAR(dz, d, 1e-12);
+    if (fixed[v]) {
+      EXPECT_EQ(V.row(v), g.V.row(v));
+    }
+    if (x > 1 - 1e-9) {
+      EXPECT_NEAR(dz, d, 1e-12);
+    }
     EXPECT_GE(dz, -1e-9);
     EXPECT_LE(dz, d + 1e-9);
     EXPECT_NEAR(V(v, 0), g.V(v, 0), 1e-9);  // no in-plane motion was asked
