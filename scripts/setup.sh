@@ -8,7 +8,7 @@ PACKAGES=(
   clang libclang-rt-14-dev            # libFuzzer target for the readers
   libeigen3-dev                       # linear algebra
   libsuitesparse-dev                  # CHOLMOD supernodal Cholesky
-  libopenblas0-pthread                # optimised BLAS for CHOLMOD (5-10x over the reference one)
+  libopenblas0-pthread libopenblas-dev  # optimised BLAS for CHOLMOD, linked first (see CMakeLists.txt)
   libceres-dev                        # Levenberg-Marquardt body fit
   libembree-dev                       # closest point / ray casting
   libnanoflann-dev                    # kd-tree
