@@ -87,17 +87,19 @@ void startCommon(cholmod_common& c) {
   c.supernodal = CHOLMOD_SUPERNODAL;
 }
 
+// Calls the runtime library's `function`(value), found at run time so that the program links
+// whichever BLAS and OpenMP there are, unless the user set `envVar` to choose for themselves.
+void setUnlessUserDid(const char* envVar, const char* function, int value) {
+  if (std::getenv(envVar) != nullptr) return;
+  if (auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, function))) set(value);
+}
+
 // CHOLMOD's supernodal factorisation calls BLAS on many small dense blocks. OpenBLAS's worker
 // threads spin-wait between those calls: on two cores they cost more than they give (a
-// segmentation spent three quarters of its time in the kernel). One BLAS thread, unless
-// OPENBLAS_NUM_THREADS asks otherwise; looked up at run time so that any BLAS links.
+// segmentation spent three quarters of its time in the kernel). One BLAS thread.
 void useOneBlasThread() {
-  static const bool done = [] {
-    if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr)
-      if (auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
-        set(1);
-    return true;
-  }();
+  static const bool done = (setUnlessUserDid("OPENBLAS_NUM_THREADS", "openblas_set_num_threads", 1),
+                            true);
   (void)done;
 }
 
@@ -107,12 +109,7 @@ void useOneBlasThread() {
 // lets the runtime give the region only the cores that are idle. The setting belongs to the
 // calling thread, so every thread that factors sets it once.
 void useIdleOpenMpThreads() {
-  thread_local const bool done = [] {
-    if (std::getenv("OMP_DYNAMIC") == nullptr)
-      if (auto* set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic")))
-        set(1);
-    return true;
-  }();
+  thread_local const bool done = (setUnlessUserDid("OMP_DYNAMIC", "omp_set_dynamic", 1), true);
   (void)done;
 }
 
