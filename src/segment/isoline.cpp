@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/error.h"
@@ -121,6 +122,34 @@ Isoline extractIsoline(const TriMesh& mesh, const MeshTopology& topology,
   for (int e = 0; e < nE; ++e)
     if (outFace[e] >= 0 && !visited[e]) trace(e);
   return iso;
+}
+
+double distanceToCurves(const Eigen::Vector3d& p, const Isoline& iso) {
+  double best = std::numeric_limits<double>::infinity();
+  forEachSegment(iso, [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const Eigen::Vector3d ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * ab - p).norm());
+  });
+  for (const IsolineCurve& c : iso.curves)
+    if (c.points.size() == 1) best = std::min(best, (c.points[0].position - p).norm());
+  return best;
+}
+
+double curveShift(const Isoline& a, const Isoline& b, double quantile) {
+  if (a.curves.empty() || b.curves.empty()) return std::numeric_limits<double>::infinity();
+  std::vector<double> d;
+  for (const auto* pair : {&a, &b}) {
+    const Isoline& to = pair == &a ? b : a;
+    for (const IsolineCurve& c : pair->curves)
+      for (const IsolinePoint& p : c.points) d.push_back(distanceToCurves(p.position, to));
+  }
+  if (d.empty()) return 0.0;
+  const double q = std::clamp(quantile, 0.0, 1.0);
+  const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(d.size() - 1));
+  std::nth_element(d.begin(), d.begin() + k, d.end());
+  return d[static_cast<size_t>(k)];
 }
 
 }  // namespace s2p

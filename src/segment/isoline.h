@@ -50,4 +50,25 @@ Isoline extractIsoline(const TriMesh& mesh, const MeshTopology& topology,
                        const Eigen::VectorXd& phi, double value = 0.0);
 Isoline extractIsoline(const TriMesh& mesh, const Eigen::VectorXd& phi, double value = 0.0);
 
+// Calls f(a, b) with the end points (Eigen::Vector3d) of every segment of every curve, closing segments
+// included.
+template <typename F>
+void forEachSegment(const Isoline& iso, F&& f) {
+  for (const IsolineCurve& c : iso.curves) {
+    const size_t n = c.points.size();
+    const size_t segments = c.closed ? n : (n == 0 ? 0 : n - 1);
+    for (size_t i = 0; i < segments; ++i) f(c.points[i].position, c.points[(i + 1) % n].position);
+  }
+}
+
+// Distance (m) from p to the nearest point of any curve (brute force over the segments); +∞
+// for an isoline without curves.
+double distanceToCurves(const Eigen::Vector3d& p, const Isoline& iso);
+
+// How far one boundary lies from another: the `quantile` of the distances from every point of
+// either to the other (+∞ when one has no curve). With the 95th percentile, a boundary that
+// moved across a gap over a short stretch scores the width of the gap, and one nudged
+// everywhere scores the nudge (the mean would average a bridged gap away).
+double curveShift(const Isoline& a, const Isoline& b, double quantile = 0.95);
+
 }  // namespace s2p

@@ -192,49 +192,6 @@ std::vector<Eigen::MatrixX3d> curvePolylines(const Isoline& iso, std::vector<boo
   return out;
 }
 
-// Calls f(a, b) for every segment of every curve (closing segments included).
-template <typename F>
-void forEachSegment(const Isoline& iso, F&& f) {
-  for (const IsolineCurve& c : iso.curves) {
-    const size_t n = c.points.size();
-    const size_t segments = c.closed ? n : (n == 0 ? 0 : n - 1);
-    for (size_t i = 0; i < segments; ++i) f(c.points[i].position, c.points[(i + 1) % n].position);
-  }
-}
-
-// Distance from p to a set of polylines (brute force over segments).
-double distanceToCurves(const Vec3& p, const Isoline& iso) {
-  double best = std::numeric_limits<double>::infinity();
-  forEachSegment(iso, [&](const Vec3& a, const Vec3& b) {
-    const Vec3 ab = b - a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (a + t * ab - p).norm());
-  });
-  for (const IsolineCurve& c : iso.curves)
-    if (c.points.size() == 1) best = std::min(best, (c.points[0].position - p).norm());
-  return best;
-}
-
-// Symmetric mean distance between two isolines (each point to the other curve set).
-// The 95th percentile of the distances from every point of either boundary to the other: a
-// boundary that moved across a gap somewhere, even over a short stretch, scores the width of
-// the gap; one nudged everywhere scores the nudge.
-double curveShift(const Isoline& a, const Isoline& b) {
-  if (a.curves.empty() || b.curves.empty()) return std::numeric_limits<double>::infinity();
-  std::vector<double> d;
-  for (const auto* pair : {&a, &b}) {
-    const Isoline& from = *pair;
-    const Isoline& to = pair == &a ? b : a;
-    for (const IsolineCurve& c : from.curves)
-      for (const IsolinePoint& p : c.points) d.push_back(distanceToCurves(p.position, to));
-  }
-  if (d.empty()) return 0.0;
-  const size_t k = static_cast<size_t>(0.95 * static_cast<double>(d.size() - 1));
-  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(k), d.end());
-  return d[k];
-}
-
 // Eq. (5): φ_dn(u) = max(2(|o·n_u| − ½), 0) with o the normal of the plane fitted to the
 // boundary curve nearest to u (one plane per loop: two ankle loops of a walking pose are not
 // coplanar). Only vertices within `band` metres of the boundary get it.

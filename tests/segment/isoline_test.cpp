@@ -78,6 +78,38 @@ TEST(Isoline, ZeroAtAVertexCountsAsPositive) {
   for (const auto& p : iso.curves[0].points) EXPECT_TRUE(p.t == 0.0 || p.t == 1.0);
 }
 
+// Isolines of a field on a grid whose zero set is the line x = 0.5, except over y ∈ [0.45, 0.55]
+// where it lies at x = 0.5 + bump: the gap pass's measure of how far a boundary moved.
+Isoline bumpedLine(const TriMesh& g, double bump) {
+  Eigen::VectorXd phi(g.numVertices());
+  for (int v = 0; v < g.numVertices(); ++v) {
+    const double y = g.V(v, 1);
+    phi[v] = g.V(v, 0) - 0.5 - (std::abs(y - 0.5) < 0.05 + 1e-9 ? bump : 0.0);
+  }
+  return extractIsoline(g, phi);
+}
+
+TEST(Isoline, CurveShiftSeesAStretchThatMovedWhereTheMeanDoesNot) {
+  const TriMesh g = makeGrid(200, 200, 1.0, 1.0);
+  const Isoline straight = bumpedLine(g, 0.0);
+  // Moved everywhere by 1 cm: every quantile is 1 cm.
+  Eigen::VectorXd phi(g.numVertices());
+  for (int v = 0; v < g.numVertices(); ++v) phi[v] = g.V(v, 0) - 0.51;
+  const Isoline shifted = extractIsoline(g, phi);
+  EXPECT_NEAR(curveShift(straight, shifted), 0.01, 1e-9);
+  EXPECT_NEAR(curveShift(straight, shifted, 0.5), 0.01, 1e-9);
+  // Moved 10 cm over a tenth of its length: the median is 0, the 95th percentile the bump.
+  const Isoline bumped = bumpedLine(g, 0.1);
+  EXPECT_NEAR(curveShift(straight, bumped, 0.5), 0.0, 1e-9);
+  EXPECT_NEAR(curveShift(straight, bumped), 0.1, 0.006);
+  // Symmetric, zero against itself, +∞ against nothing.
+  EXPECT_DOUBLE_EQ(curveShift(bumped, straight), curveShift(straight, bumped));
+  EXPECT_EQ(curveShift(straight, straight), 0.0);
+  EXPECT_EQ(curveShift(straight, Isoline{}), std::numeric_limits<double>::infinity());
+  // distanceToCurves: the nearest segment, not the nearest point.
+  EXPECT_NEAR(distanceToCurves(Eigen::Vector3d(0.8, 0.503, 0), straight), 0.3, 1e-12);
+}
+
 TEST(Isoline, NoCrossingGivesNoCurve) {
   const TriMesh s = makeIcosphere(2);
   EXPECT_TRUE(extractIsoline(s, Eigen::VectorXd::Ones(s.numVertices())).curves.empty());
