@@ -9,6 +9,7 @@
 #include "core/laplacian.h"
 #include "core/mesh_topology.h"
 #include "core/spd_solver.h"
+#include "segment/vertex_regions.h"
 
 namespace s2p {
 
@@ -29,29 +30,9 @@ Eigen::VectorXd regionSigns(const TriMesh& mesh, const MeshTopology& topology,
   std::vector<char> blocked(topology.edges().rows(), 0);
   for (const IsolineCurve& c : iso.curves)
     for (const IsolinePoint& p : c.points) blocked[p.edge] = 1;
-  std::vector<std::vector<std::pair<int, int>>> adj(nV);  // (neighbour, edge)
-  for (int e = 0; e < topology.edges().rows(); ++e) {
-    const int a = topology.edges()(e, 0), b = topology.edges()(e, 1);
-    adj[a].push_back({b, e});
-    adj[b].push_back({a, e});
-  }
-  std::vector<int> region(nV, -1);
-  int regions = 0;
-  for (int s = 0; s < nV; ++s) {
-    if (region[s] >= 0) continue;
-    std::vector<int> stack{s};
-    region[s] = regions;
-    while (!stack.empty()) {
-      const int v = stack.back();
-      stack.pop_back();
-      for (auto [w, e] : adj[v])
-        if (!blocked[e] && region[w] < 0) {
-          region[w] = regions;
-          stack.push_back(w);
-        }
-    }
-    ++regions;
-  }
+  const VertexRegions vr = vertexRegions(topology, [&](int e) { return !blocked[e]; });
+  const std::vector<int>& region = vr.region;
+  const int regions = vr.count;
   Eigen::VectorXd vote = Eigen::VectorXd::Zero(regions), signVote = Eigen::VectorXd::Zero(regions);
   for (int v = 0; v < nV; ++v) vote[region[v]] += area[v] * (votes[v] < 0 ? -1.0 : 1.0);
   for (const ValueConstraint& c : constraints) {

@@ -17,6 +17,7 @@
 #include "segment/garment_completion.h"
 #include "segment/mesh_cut.h"
 #include "segment/surface_spline.h"
+#include "segment/vertex_regions.h"
 
 namespace s2p {
 
@@ -243,32 +244,12 @@ int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
   const MeshTopology topo(mesh.F, mesh.numVertices());
   const Eigen::VectorXd area = vertexAreas(mesh);
   const int nV = mesh.numVertices();
-  std::vector<std::vector<int>> adj(nV);
-  for (int e = 0; e < topo.edges().rows(); ++e) {
-    const int a = topo.edges()(e, 0), b = topo.edges()(e, 1);
-    if ((phi[a] < 0) != (phi[b] < 0)) continue;
-    adj[a].push_back(b);
-    adj[b].push_back(a);
-  }
-  std::vector<int> region(nV, -1);
-  std::vector<double> regionArea;
-  for (int s = 0; s < nV; ++s) {
-    if (region[s] >= 0) continue;
-    const int id = static_cast<int>(regionArea.size());
-    regionArea.push_back(0);
-    std::vector<int> stack{s};
-    region[s] = id;
-    while (!stack.empty()) {
-      const int v = stack.back();
-      stack.pop_back();
-      regionArea[id] += area[v];
-      for (int w : adj[v])
-        if (region[w] < 0) {
-          region[w] = id;
-          stack.push_back(w);
-        }
-    }
-  }
+  const VertexRegions vr = vertexRegions(topo, [&](int e) {
+    return (phi[topo.edges()(e, 0)] < 0) == (phi[topo.edges()(e, 1)] < 0);
+  });
+  const std::vector<int>& region = vr.region;
+  std::vector<double> regionArea(vr.count, 0.0);
+  for (int v = 0; v < nV; ++v) regionArea[region[v]] += area[v];
   std::vector<char> keep(regionArea.size(), 0);
   for (const ValueConstraint& c : signs)
     for (int k = 0; k < 3; ++k) keep[region[mesh.F(c.point.face, k)]] = 1;
