@@ -160,20 +160,20 @@ Eigen::VectorXd posteriorDisplacement(const std::vector<GaussianMixture>& models
   return phi;
 }
 
-Eigen::MatrixX3d smoothVertexColours(const TriMesh& mesh, const Eigen::MatrixX3d& rgb,
-                                     double length, int steps) {
-  if (rgb.rows() != mesh.numVertices())
-    throw InputError("colour smoothing: " + std::to_string(rgb.rows()) + " colours for " +
+Eigen::MatrixXd smoothOnSurface(const TriMesh& mesh, const Eigen::MatrixXd& values, double length,
+                                int steps) {
+  if (values.rows() != mesh.numVertices())
+    throw InputError("surface smoothing: " + std::to_string(values.rows()) + " values for " +
                      std::to_string(mesh.numVertices()) + " vertices");
   if (!(length >= 0) || steps < 0)
-    throw InputError("colour smoothing: length and steps must be non-negative");
-  if (length == 0 || steps == 0) return rgb;
+    throw InputError("surface smoothing: length and steps must be non-negative");
+  if (length == 0 || steps == 0) return values;
   const Eigen::SparseMatrix<double> M = massMatrix(mesh);
   SpdSolver solver;
   solver.compute(M + (length * length) * cotanLaplacian(mesh));
-  Eigen::MatrixXd c = rgb;
-  for (int s = 0; s < steps; ++s) c = solver.solve(Eigen::MatrixXd(M * c));
-  return c;
+  Eigen::MatrixXd x = values;
+  for (int s = 0; s < steps; ++s) x = solver.solve(Eigen::MatrixXd(M * x));
+  return x;
 }
 
 GaussianMixture withoutBorrowedComponents(const GaussianMixture& model,
@@ -221,8 +221,8 @@ RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb
                      " vertices); a scan without colour "
                      "cannot be segmented by colour");
   RegionColours out;
-  out.lab =
-      srgbToLab(smoothVertexColours(mesh, srgb, options.smoothingLength, options.smoothingSteps));
+  out.lab = srgbToLab(
+      Eigen::MatrixX3d(smoothOnSurface(mesh, srgb, options.colourSmoothing, options.smoothingSteps)));
   const Eigen::MatrixXd lab = out.lab;
   for (size_t r = 0; r < regions.size(); ++r) {
     const std::vector<SurfacePoint>& points = regions[r];
@@ -245,6 +245,17 @@ RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb
   return out;
 }
 
+Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh, const std::vector<GaussianMixture>& models,
+                                     const std::vector<bool>& positive, const Eigen::MatrixX3d& lab,
+                                     const ColourModelOptions& options) {
+  // Clamped: the cotan Laplacian of a mesh with obtuse triangles can overshoot by a hair.
+  return smoothOnSurface(mesh, posteriorDisplacement(models, positive, lab),
+                         options.displacementSmoothing, options.smoothingSteps)
+      .col(0)
+      .cwiseMax(-1.0)
+      .cwiseMin(1.0);
+}
+
 ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
                                       const std::vector<ColourRegion>& regions,
                                       const ColourModelOptions& options) {
@@ -256,7 +267,7 @@ ColourDisplacement colourDisplacement(const TriMesh& mesh, const Eigen::MatrixX3
   }
   RegionColours fit = fitRegionColours(mesh, srgb, points, options);
   ColourDisplacement out;
-  out.phiD = posteriorDisplacement(fit.models, positive, fit.lab);
+  out.phiD = smoothedDisplacement(mesh, fit.models, positive, fit.lab, options);
   out.lab = std::move(fit.lab);
   out.models = std::move(fit.models);
   return out;

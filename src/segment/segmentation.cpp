@@ -618,7 +618,8 @@ class Segmenter {
           curve.name, pos, neg, curve.droppedSigns, curve.numSigns));
     std::vector<GaussianMixture> models;
     for (int r : job.regions) models.push_back(colours_.models[r]);
-    const Eigen::VectorXd phiD = posteriorDisplacement(models, job.positive, stage.lab);
+    const Eigen::VectorXd phiD =
+        smoothedDisplacement(stage.mesh, models, job.positive, stage.lab, options_.colour);
     BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
     if (job.keepInitial) {
       BoundaryResult& r = run.result;

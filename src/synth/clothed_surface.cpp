@@ -66,8 +66,12 @@ std::pair<Label, Label> reportedPair(Label a, Label b) {
 
 // True boundaries: on every edge whose end labels differ, the label change is found by
 // bisection of the exact label function (resolution independent up to the chord), and the
-// crossings are chained face by face into polylines.
-std::vector<TrueBoundary> computeBoundaries(const TriMesh& mesh, const Eigen::VectorXi& vlabel,
+// crossings are chained face by face into polylines. The label function is exact on the clean
+// surface `mesh`; each crossing is then placed at the same fraction of its edge between the
+// vertices `finalV` (#V×3: the scan's own positions, after normal noise), so that the truth lies
+// on the surface the segmenter is given and is as long as a cut along it.
+std::vector<TrueBoundary> computeBoundaries(const TriMesh& mesh, const Eigen::MatrixX3d& finalV,
+                                            const Eigen::VectorXi& vlabel,
                                             const GarmentLayers& layers,
                                             const BodyField& field) {
   const MeshTopology topo(mesh.F, mesh.numVertices());
@@ -82,12 +86,14 @@ std::vector<TrueBoundary> computeBoundaries(const TriMesh& mesh, const Eigen::Ve
   tbb::parallel_for(0, nc, [&](int i) {
     const int e = crossingEdges[i];
     const Label la = static_cast<Label>(vlabel[E(e, 0)]);
-    Eigen::Vector3d lo = mesh.V.row(E(e, 0)).transpose(), hi = mesh.V.row(E(e, 1)).transpose();
+    double lo = 0, hi = 1;  // fractions of the edge from its first vertex
+    const Eigen::Vector3d a = mesh.V.row(E(e, 0)).transpose(), b = mesh.V.row(E(e, 1)).transpose();
     for (int it = 0; it < 14; ++it) {
-      const Eigen::Vector3d mid = 0.5 * (lo + hi);
-      (labelAt(layers, field, mid) == la ? lo : hi) = mid;
+      const double mid = 0.5 * (lo + hi);
+      (labelAt(layers, field, a + mid * (b - a)) == la ? lo : hi) = mid;
     }
-    points[i] = 0.5 * (lo + hi);
+    const double t = 0.5 * (lo + hi);
+    points[i] = ((1 - t) * finalV.row(E(e, 0)) + t * finalV.row(E(e, 1))).transpose();
     pairOf[i] = reportedPair(la, static_cast<Label>(vlabel[E(e, 1)]));
   });
   for (int i = 0; i < nc; ++i) node[crossingEdges[i]] = i;
@@ -282,16 +288,21 @@ ClothedSurface makeClothedSurface(const BodyModel& model, const BodyParams& para
   }
   st.secondsLabels += since(t0);
 
-  // === 5. True boundaries on the (decimated) surface, before noise and holes.
+  // === 5. Noise, and the true boundaries: found on the clean (decimated) surface, placed on the
+  // noisy one. Holes are cut after: the truth keeps the stretches a hole swallows.
+  t0 = Clock::now();
+  TriMesh noisy = mesh;
+  addNormalNoise(noisy, options.noise, options.seed);
+  st.secondsCorrupt = since(t0);
   t0 = Clock::now();
   progress.begin("synth: boundaries");
-  out.boundaries = computeBoundaries(mesh, out.vertexLabel, layers, field);
+  out.boundaries = computeBoundaries(mesh, noisy.V, out.vertexLabel, layers, field);
   progress.end();
   st.secondsBoundaries = since(t0);
+  mesh = std::move(noisy);
 
-  // === 6. Noise and holes.
+  // === 6. Holes.
   t0 = Clock::now();
-  addNormalNoise(mesh, options.noise, options.seed);
   if (options.holes > 0) {
     const double scale = std::max(posed.mesh.V.col(1).maxCoeff() - posed.mesh.V.col(1).minCoeff(),
                                   0.5) / 1.75;
@@ -313,7 +324,7 @@ ClothedSurface makeClothedSurface(const BodyModel& model, const BodyParams& para
       rp.row(i) = out.restPosition.row(cut.keptVertices[i]);
     out.restPosition = rp;
   }
-  st.secondsCorrupt = since(t0);
+  st.secondsCorrupt += since(t0);
 
   // === 7. Garments' truth.
   const Eigen::VectorXd area = faceAreas(mesh);

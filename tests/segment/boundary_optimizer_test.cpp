@@ -40,9 +40,10 @@ void addSigns(std::vector<ValueConstraint>& out, const MeshQuery& q, double cx, 
 }
 
 // φ_d of a mesh coloured blue (positive) where positiveColour(y) and red elsewhere, the
-// colour model fitted on vertices far from the colour edge.
+// colour model fitted on vertices far from the colour edge; its smoothing grows with `scale`.
 template <typename Pred>
-Eigen::VectorXd twoColourDisplacement(const TriMesh& m, Pred positiveColour, double edge) {
+Eigen::VectorXd twoColourDisplacement(const TriMesh& m, Pred positiveColour, double edge,
+                                      double scale = 1) {
   Eigen::MatrixX3d rgb(m.numVertices(), 3);
   ColourRegion pos{{}, true}, neg{{}, false};
   for (int v = 0; v < m.numVertices(); ++v) {
@@ -51,7 +52,9 @@ Eigen::VectorXd twoColourDisplacement(const TriMesh& m, Pred positiveColour, dou
     if (std::abs(m.V(v, 1) - edge) > 0.15 && v % 5 == 0)
       (p ? pos : neg).points.push_back(SurfacePoint::atVertex(m.F, v));
   }
-  return colourDisplacement(m, rgb, {pos, neg}).phiD;
+  ColourModelOptions options;
+  options.displacementSmoothing *= scale;
+  return colourDisplacement(m, rgb, {pos, neg}, options).phiD;
 }
 
 struct CylinderCase {
@@ -71,7 +74,7 @@ CylinderCase twoColourCylinder(int rings, int segments, double s) {
   addSigns(c.signs, q, 0, 0.95 * s, 0.1 * s, 1.0);
   addSigns(c.signs, q, 0, 0.05 * s, 0.1 * s, -1.0);
   c.phiD = twoColourDisplacement(
-      c.mesh, [s](double y) { return y >= 0.3 * s; }, 0.3 * s);
+      c.mesh, [s](double y) { return y >= 0.3 * s; }, 0.3 * s, s);
   return c;
 }
 

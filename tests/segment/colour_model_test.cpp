@@ -2,12 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "core/colour.h"
 #include "core/error.h"
 #include "core/laplacian.h"
 #include "core/mesh_query.h"
+#include "core/mesh_topology.h"
 #include "core/shapes.h"
 
 namespace s2p {
@@ -147,12 +149,50 @@ TEST(ColourModel, ThreeLabelsFootOrSkinAgainstLower) {
   }
 }
 
+// Plain skin below a colour edge, a garment above: teal with stripes in a colour half-way
+// from teal to skin (the mixture of such a garment spans the colours between the two).
+// The displacement must change sign half-way between the last skin ring and the first garment
+// one. Smoothing the colours instead blends the skin ring next to the edge towards the garment,
+// into the broad mixture that covers teal and stripes, and moves the zero a ring onto the skin.
+TEST(ColourModel, DisplacementCrossesZeroHalfWayAtAColourEdge) {
+  constexpr int kRings = 80, kSegments = 32;
+  const TriMesh cyl = makeCylinder(kRings, kSegments, 0.1, 1.0);
+  const double ring = 1.0 / kRings, edge = 32.5 * ring;  // between two rings of vertices
+  const Eigen::RowVector3d skin(0.85, 0.62, 0.5), teal(0.1, 0.5, 0.5);
+  Eigen::MatrixX3d rgb(cyl.numVertices(), 3);
+  for (int v = 0; v < cyl.numVertices(); ++v)
+    rgb.row(v) = cyl.V(v, 1) < edge ? skin : v % kSegments / 4 % 2 ? teal + (skin - teal) / 2 : teal;
+  const std::vector<ColourRegion> regions = {{pointsBetween(cyl, 0.0, 0.3, 3), true},
+                                             {pointsBetween(cyl, 0.5, 1.0, 3), false}};
+  // Mean height where φ_d changes sign along the cylinder's vertical edges.
+  auto zeroHeight = [&](const Eigen::VectorXd& phi) {
+    const MeshTopology topo(cyl.F, cyl.numVertices());
+    double sum = 0;
+    int n = 0;
+    for (int e = 0; e < topo.numEdges(); ++e) {
+      const int a = topo.edges()(e, 0), b = topo.edges()(e, 1);
+      if ((phi[a] > 0) == (phi[b] > 0) || std::abs(cyl.V(a, 1) - cyl.V(b, 1)) < 0.5 * ring) continue;
+      const double t = phi[a] / (phi[a] - phi[b]);
+      sum += cyl.V(a, 1) + t * (cyl.V(b, 1) - cyl.V(a, 1));
+      ++n;
+    }
+    return n ? sum / n : -1.0;
+  };
+  ColourModelOptions options;
+  options.gmm.covarianceFloor = 25;
+  options.displacementSmoothing = ring;
+  EXPECT_NEAR(zeroHeight(colourDisplacement(cyl, rgb, regions, options).phiD), edge, 0.1 * ring);
+  options.displacementSmoothing = 0;
+  options.colourSmoothing = ring;
+  EXPECT_LT(zeroHeight(colourDisplacement(cyl, rgb, regions, options).phiD), edge - 0.3 * ring);
+}
+
 TEST(ColourModel, SmoothingKeepsConstantsAndMean) {
   const TriMesh s = makeIcosphere(3);
   Eigen::MatrixX3d rgb = Eigen::MatrixX3d::Constant(s.numVertices(), 3, 0.4);
-  EXPECT_LT((smoothVertexColours(s, rgb, 0.05) - rgb).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((smoothOnSurface(s, rgb, 0.05) - rgb).cwiseAbs().maxCoeff(), 1e-12);
   rgb.col(0) = s.V.col(1).array() * 0.5 + 0.5;
-  const Eigen::MatrixX3d sm = smoothVertexColours(s, rgb, 0.05, 2);
+  const Eigen::MatrixXd sm = smoothOnSurface(s, rgb, 0.05, 2);
   // Backward Euler diffusion preserves the area-weighted mean and reduces the spread.
   const Eigen::VectorXd a = vertexAreas(s);
   EXPECT_NEAR(a.dot(sm.col(0)), a.dot(rgb.col(0)), 1e-10);

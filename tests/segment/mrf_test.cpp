@@ -301,7 +301,7 @@ TEST(Mrf, ResolutionDoesNotChangeWhichStripesSurvive) {
     const std::vector<MrfRegion> regions = {{.label = 0, .points = pointsBetween(cyl, 0.3, 0.4)},
                                             {.label = 1, .points = pointsBetween(cyl, 0, 0.08)}};
     MrfOptions o{.contrast = 0, .priorWeight = 0};
-    o.colour.smoothingLength = 0;
+    o.colour.displacementSmoothing = 0;
     const MrfResult r = mrfSegmentation(cyl, rgb, regions, o);
     int narrowCount = 0, wideCount = 0;
     for (int v = 0; v < cyl.numVertices(); ++v) {

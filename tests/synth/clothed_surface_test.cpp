@@ -354,6 +354,25 @@ TEST(ClothedSurface, CoarseOutfitIsClosedAndLabelled) {
     EXPECT_LT((s.mesh.V.row(v) - s.restPosition.row(v)).norm(), 0.06);
 }
 
+// The truth describes the scan as delivered: with normal noise, every boundary point lies on an
+// edge of the noisy surface (before the fix it lay on the clean one, σ away, and a cut along the
+// noisy surface measured longer than the truth from the noise alone).
+TEST(ClothedSurface, TrueBoundariesLieOnTheNoisySurface) {
+  GeometryOptions o;
+  o.voxelSize = 0.014;
+  o.noise = 0.004;
+  Outfit outfit;
+  outfit.garments = {spec(GarmentType::SleevelessTop, 0.028), spec(GarmentType::Shoes, 0.02)};
+  const ClothedSurface s = makeClothedSurface(mannequin(), restParams(), outfit, o);
+  const MeshQuery query(s.mesh);
+  int points = 0;
+  for (const TrueBoundary& b : s.boundaries)
+    for (const Eigen::MatrixX3d& c : b.curves)
+      for (int i = 0; i < c.rows(); ++i, ++points)
+        EXPECT_LT(query.closestPoint(c.row(i).transpose()).distance, 1e-9);
+  EXPECT_GT(points, 50);
+}
+
 TEST(ClothedSurface, BadInputThrowsInputError) {
   Outfit twice;
   twice.garments = {spec(GarmentType::TShirt), spec(GarmentType::TShirt)};
