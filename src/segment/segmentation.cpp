@@ -225,6 +225,40 @@ Eigen::VectorXd normalDisplacement(const TriMesh& mesh, const Isoline& boundary,
   return out;
 }
 
+// Which vertices are gap-filling triangles (§5.2) rather than garment or skin. A candidate
+// faces along the boundary's plane normal (φ_dn > 0) and does not look onto the body: its inward
+// normal meets no body surface within 2·reach (a shoulder under a neckline looks down onto the
+// body an ease away; the cap that closes a skirt's hem looks up into the skirt). A connected
+// set of candidates is a gap when some of it lies farther than `reach` from the body: the cap
+// spans the gap out to a skirt's rim, while the riser under a fitted hem is an ease wide and
+// the generator's truth, like a seamstress, counts it to the garment.
+std::vector<bool> gapVertices(const TriMesh& mesh, const Eigen::VectorXd& phiDn,
+                              const MeshQuery& body, double reach) {
+  const int nV = mesh.numVertices();
+  const Eigen::MatrixX3d N = vertexNormals(mesh);
+  std::vector<bool> candidate(nV, false);
+  for (int v = 0; v < nV; ++v) {
+    if (phiDn[v] <= 0) continue;
+    // From a fifth of `reach` outside: bare skin may lie a hair inside the body.
+    const Vec3 n = N.row(v).transpose();
+    const double lead = 0.2 * reach;
+    candidate[v] =
+        !body.rayCast(mesh.V.row(v).transpose() + lead * n, -n, 0, lead + 2 * reach).has_value();
+  }
+  const MeshTopology topo(mesh.F, nV);
+  const VertexRegions regions = vertexRegions(topo, [&](int e) {
+    return candidate[topo.edges()(e, 0)] && candidate[topo.edges()(e, 1)];
+  });
+  std::vector<bool> wide(regions.count, false);
+  for (int v = 0; v < nV; ++v)
+    if (candidate[v] && !wide[regions.region[v]] &&
+        body.closestPoint(mesh.V.row(v).transpose()).distance > reach)
+      wide[regions.region[v]] = true;
+  std::vector<bool> out(nV, false);
+  for (int v = 0; v < nV; ++v) out[v] = candidate[v] && wide[regions.region[v]];
+  return out;
+}
+
 // φ with values within 1e-4 edge lengths of zero moved off it, so that no cut leaves a
 // zero-area sliver (a vertex with no area has no row in M + βL on the next stage). Moves the
 // boundary by at most 0.1 µm on a 1 mm mesh.
@@ -635,7 +669,15 @@ class Segmenter {
       // boundary (a gap was bridged).
       const Eigen::VectorXd phiDn = normalDisplacement(stage.mesh, run.result.boundary,
                                                        run.result.phi, 0.25 * height_);
-      BoundaryResult second = optimizer.iterate(run.result.phi, f.signs, phiD + phiDn);
+      // Eq. (6), except on gap-filling triangles, which push to the side that is not garment
+      // (+1) whatever their colour: the paper calls their colours meaningless, and a cap patch in
+      // the garment's colour (φ_d = −1) cancelled φ_dn and held the hem on the cap under a long
+      // skirt; on a coarse cap the normals near the rim are tilted and φ_dn alone is weak.
+      const std::vector<bool> gap = gapVertices(stage.mesh, phiDn, *bodyQuery_, options_.gapReach);
+      Eigen::VectorXd phiGap = phiD + phiDn;
+      for (int v = 0; v < phiGap.size(); ++v)
+        if (gap[v]) phiGap[v] = 1;
+      BoundaryResult second = optimizer.iterate(run.result.phi, f.signs, phiGap);
       rep.gapPass = true;
       rep.gapShift = curveShift(second.boundary, run.result.boundary);
       if (!second.vanished && rep.gapShift > options_.gapMinShift) {

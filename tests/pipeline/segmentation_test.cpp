@@ -101,6 +101,29 @@ TEST(Segmentation, DressIsOnePieceWithItsHemFound_Slow) {
   EXPECT_GE(score(c, seg).meanGarmentIoU, 0.97);
 }
 
+// §5.2 under a floor-length skirt: the cap that closes the hem carries patches of the skirt's own
+// colour. In Eq. (6) as written, φ_d = −1 there cancels φ_dn = +1 and the hem stayed up to 5 cm
+// inside the cap on this scan (the suite's: p95 38 mm); with gap-filling triangles pushing out
+// whatever their colour (SegmentationOptions::gapReach) it moves out to the rim. (At 12k
+// vertices the decimated cap is a few triangles as wide as the gap, and no isoline through them
+// can follow the rim.)
+TEST(Segmentation, LongSkirtHemLeavesTheGapCap_Slow) {
+  const Case& c = synthCase("long_skirt_gaps", 30000, 5);
+  const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
+                                       c.body.features, fastOptions());
+  const BoundaryReport& ls = seg.boundaries.at(1);
+  ASSERT_EQ(ls.name, "L|S");
+  EXPECT_TRUE(ls.gapApplied);
+  bool found = false;
+  for (const BoundaryScore& b : score(c, seg).boundaries)
+    if (b.a == Label::Skin && b.b == Label::Lower && !b.missing) {
+      found = true;
+      EXPECT_LT(b.pooled.p95, 0.015);
+      EXPECT_LT(b.roughness, 1.05);
+    }
+  EXPECT_TRUE(found);
+}
+
 // The scan with every vertex of one label painted in the skin's own colours (a bare torso or
 // bare legs where the generator put a garment): the region colour matches the skin.
 Eigen::MatrixX3d paintedAsSkin(const Case& c, Label label) {

@@ -6,13 +6,14 @@
 
 namespace s2p {
 
-const SynthCase& synthCase(const std::string& preset, int vertices) {
+const SynthCase& synthCase(const std::string& preset, int vertices, std::uint64_t seed) {
   static std::map<std::string, SynthCase> cache;
-  const std::string key = preset + std::to_string(vertices);
+  const std::string key = preset + " " + std::to_string(vertices) + " " + std::to_string(seed);
   auto it = cache.find(key);
   if (it == cache.end()) {
     SynthOptions o = presetOptions(preset);
     o.geometry.targetVertices = vertices;
+    if (seed != 0) o.seed = seed;
     SynthScan s = synthesize(o);
     BodyFromJson b = bodyFromJson(s.truth.body);
     it = cache.emplace(key, SynthCase{std::move(s), std::move(b)}).first;

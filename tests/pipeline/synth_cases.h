@@ -2,6 +2,7 @@
 // shared by the tests of the program.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "body/body_json.h"
@@ -14,6 +15,7 @@ struct SynthCase {
   BodyFromJson body;  // the true body under the clothes
 };
 
-const SynthCase& synthCase(const std::string& preset, int vertices);
+// seed 0: the preset's own.
+const SynthCase& synthCase(const std::string& preset, int vertices, std::uint64_t seed = 0);
 
 }  // namespace s2p
