@@ -60,7 +60,8 @@ BodyModel loadModel(const std::string& spec, Progress& progress) {
 ScanFitOptions scanFitOptions(const FitCommand& cmd, const Scan& scan) {
   ScanFitOptions o;
   o.nonrigid = !cmd.noNonrigid;
-  if (!cmd.keypoints.empty()) o.keypoints = readKeypoints(cmd.keypoints, scan.toInputFrame.inverse());
+  if (!cmd.keypoints.empty())
+    o.keypoints = readKeypoints(cmd.keypoints, scan.toInputFrame.inverse());
   return o;
 }
 
@@ -81,15 +82,16 @@ int runFit(const FitCommand& cmd, Progress& progress) {
 
 struct RunCommand {
   FitCommand fit;
-  bool fast = false;
+  bool faithful = false;
 };
 
 int runRun(const RunCommand& cmd, Progress& progress) {
   const LoadedScan loaded = loadScan(cmd.fit.scan, cmd.fit.load, progress);
   const BodyModel model = loadModel(cmd.fit.model, progress);
   SegmentationOptions so;
-  so.boundary.faithful = !cmd.fast;
-  const RunOutput run = runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress);
+  so.boundary.faithful = cmd.faithful;
+  const RunOutput run =
+      runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress);
   writeRun(cmd.fit.out, loaded, model, run, progress);
   printRun(run, cmd.fit.out);
   return 0;
@@ -104,7 +106,7 @@ struct FitSuiteCommand {
   std::string only;
   std::vector<double> rotations{0};
   bool segment = false;
-  bool fast = false;
+  bool faithful = false;
   bool noNonrigid = false;
 };
 
@@ -137,7 +139,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
         const Eigen::MatrixX3d trueCanonical =
             applied(loaded.scan.toInputFrame.inverse(), trueBody.posed.canonical);
         SegmentationOptions so;
-        so.boundary.faithful = !cmd.fast;
+        so.boundary.faithful = cmd.faithful;
         ScanFitOptions fo;
         fo.nonrigid = !cmd.noNonrigid;
         RunOutput run;
@@ -165,10 +167,10 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
                     {"initialisation", fit.initialisation},
                     {"fit_seconds", fit.seconds},
                     {"warnings", fit.warnings}});
-        std::string line = fmt::format("| {} | {:.0f} | {:.1f} | {:.1f} ({}) | {:.1f} | {:.1f} | {:.1f} |",
-                                       name, rotation, 1000 * sum / kNumCanonical, 1000 * worst,
-                                       toString(static_cast<Canonical>(worstJoint)),
-                                       100 * fit.fit.insideOrNear, yawError, fit.seconds);
+        std::string line = fmt::format(
+            "| {} | {:.0f} | {:.1f} | {:.1f} ({}) | {:.1f} | {:.1f} | {:.1f} |", name, rotation,
+            1000 * sum / kNumCanonical, 1000 * worst, toString(static_cast<Canonical>(worstJoint)),
+            100 * fit.fit.insideOrNear, yawError, fit.seconds);
         const fs::path outDir = fs::path(cmd.out) / fmt::format("{}_{:.0f}", name, rotation);
         writeFit(outDir / "fit", loaded.scan, model, fit);
         if (cmd.segment) {
@@ -218,7 +220,8 @@ void addFitCommands(CLI::App& app, Commands& out) {
       "The pipeline on a scan nobody labelled: fit the body, then segment the garments; writes "
       "OUT/fit/, OUT/segment/ and OUT/report.json");
   addFitOptions(run, r->fit);
-  run->add_flag("--fast", r->fast, "Fast boundary optimisation (see segment --fast)");
+  run->add_flag("--faithful", r->faithful,
+                "Algorithm 1 as written, slower (see segment --faithful)");
   out.push_back({run, [r](Progress& progress) { return runRun(*r, progress); }});
 
   auto s = std::make_shared<FitSuiteCommand>();
@@ -231,14 +234,15 @@ void addFitCommands(CLI::App& app, Commands& out) {
   suite->add_option("-o,--output", s->out, "Output folder")->capture_default_str();
   suite->add_option("--model", s->model, "Body model (see fit --model)")->capture_default_str();
   suite->add_option("--only", s->only, "Run only the entry of this name");
-  suite->add_option("--rotations", s->rotations,
-                    "Degrees about the vertical to turn each scan by before fitting, e.g. "
-                    "0,90,180,270,37")
+  suite
+      ->add_option("--rotations", s->rotations,
+                   "Degrees about the vertical to turn each scan by before fitting, e.g. "
+                   "0,90,180,270,37")
       ->delimiter(',')
       ->capture_default_str();
   suite->add_flag("--segment", s->segment,
                   "Also segment with the fitted body and score the garments (the end-to-end run)");
-  suite->add_flag("--fast", s->fast, "Fast boundary optimisation when segmenting");
+  suite->add_flag("--faithful", s->faithful, "Algorithm 1 as written when segmenting");
   suite->add_flag("--no-nonrigid", s->noNonrigid,
                   "Skip the non-rigid full fit (joint figures do not depend on it)");
   out.push_back({suite, [s](Progress& progress) { return runFitSuite(*s, progress); }});

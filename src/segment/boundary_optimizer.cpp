@@ -34,7 +34,8 @@ Eigen::VectorXd regionSigns(const TriMesh& mesh, const MeshTopology& topology,
   const std::vector<int>& region = vr.region;
   const int regions = vr.count;
   Eigen::VectorXd vote = Eigen::VectorXd::Zero(regions), signVote = Eigen::VectorXd::Zero(regions);
-  for (int v = 0; v < nV; ++v) vote[region[v]] += area[v] * (votes[v] < 0 ? -1.0 : 1.0);
+  for (int v = 0; v < nV; ++v)
+    if (votes[v] != 0) vote[region[v]] += area[v] * (votes[v] < 0 ? -1.0 : 1.0);
   for (const ValueConstraint& c : constraints) {
     if (c.value == 0) continue;
     int corner = 0;
@@ -95,7 +96,8 @@ struct BoundaryOptimizer::Impl {
     timings.isoline += secondsSince(t0);
     Eigen::VectorXd sign = phiB;
     if (constraints && (dropStrayLoops(iso, *constraints) || votes))
-      sign = regionSigns(mesh, topology, area, iso, phiB, *constraints, votes ? *votes : phiB);
+      sign = regionSigns(mesh, topology, area, iso, phiB, *constraints,
+                         votes ? *votes : besideCurves(iso, phiB));
     if (iso.curves.empty()) return {};
     t0 = std::chrono::steady_clock::now();
     Eigen::VectorXd phi =
@@ -107,6 +109,21 @@ struct BoundaryOptimizer::Impl {
       if (!std::isfinite(phi[v])) phi[v] = sign[v] < 0 ? -far : far;
     timings.geodesic += secondsSince(t0);
     return phi;
+  }
+
+  // φ_b at the ends of the edges the curves of `iso` cross, 0 elsewhere: the votes of the first
+  // φ_b's regions. φ_b is only trusted next to its constraints; far away it is extrapolation,
+  // and a large region (everything above the ankle loops of B(L|S), whose sign points are all
+  // on the feet) voting with its whole area once took the side φ_b turned to over the torso.
+  Eigen::VectorXd besideCurves(const Isoline& iso, const Eigen::VectorXd& phiB) const {
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(phiB.size());
+    for (const IsolineCurve& c : iso.curves)
+      for (const IsolinePoint& p : c.points)
+        for (int k = 0; k < 2; ++k) {
+          const int v = topology.edges()(p.edge, k);
+          out[v] = phiB[v];
+        }
+    return out;
   }
 
   // Removes the curves that cross no face next to a zero constraint; true when any was removed.

@@ -231,7 +231,7 @@ Eigen::VectorXd normalDisplacement(const TriMesh& mesh, const Isoline& boundary,
 // body an ease away; the cap that closes a skirt's hem looks up into the skirt). A connected
 // set of candidates is a gap when some of it lies farther than `reach` from the body: the cap
 // spans the gap out to a skirt's rim, while the riser under a fitted hem is an ease wide and
-// the generator's truth, like a seamstress, counts it to the garment.
+// counts as garment (so does the generator's truth).
 std::vector<bool> gapVertices(const TriMesh& mesh, const Eigen::VectorXd& phiDn,
                               const MeshQuery& body, double reach) {
   const int nV = mesh.numVertices();

@@ -43,18 +43,14 @@ Evaluation score(const Case& c, const Segmentation& seg) {
   return evaluate(in);
 }
 
-// Layout decisions and topology do not depend on the optimiser's path (the suite shows the
-// two paths agree on these presets): the fast one keeps those tests quick.
-SegmentationOptions fastOptions() {
-  SegmentationOptions o;
-  o.boundary.faithful = false;
-  return o;
-}
-
+// The other tests take the default, fast path (the suite shows the two reach the same
+// boundaries); this one runs Algorithm 1 as written end to end.
 TEST(Segmentation, TshirtTrousersMatchesTheTruth_Slow) {
   const Case& c = synthCase("tshirt_trousers", 12000);
+  SegmentationOptions faithful;
+  faithful.boundary.faithful = true;
   const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
-                                       c.body.features);
+                                       c.body.features, faithful);
   EXPECT_EQ(seg.layout, GarmentLayout::UpperLower);
   EXPECT_EQ(seg.occlusion, Occlusion::LowerOccluded);  // the t-shirt hangs over the trousers
   ASSERT_EQ(seg.boundaries.size(), 3u);
@@ -71,7 +67,8 @@ TEST(Segmentation, TshirtTrousersMatchesTheTruth_Slow) {
   // (up to the face-majority labels of the faces the boundaries cross); the trousers carry
   // their hidden band on top (§5.3).
   double upper = 0, lower = 0;
-  for (const GarmentPiece& g : seg.garments) (g.name == "upper" ? upper : lower) += surfaceArea(g.mesh);
+  for (const GarmentPiece& g : seg.garments)
+    (g.name == "upper" ? upper : lower) += surfaceArea(g.mesh);
   const LabelScore* u = e.label(Label::Upper);
   ASSERT_NE(u, nullptr);
   EXPECT_NEAR(upper, u->predArea, 2e-3 * upper);
@@ -80,8 +77,8 @@ TEST(Segmentation, TshirtTrousersMatchesTheTruth_Slow) {
 
 TEST(Segmentation, DressIsOnePieceWithItsHemFound_Slow) {
   const Case& c = synthCase("dress", 12000);
-  const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
-                                       c.body.features, fastOptions());
+  const Segmentation seg =
+      segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh, c.body.features);
   EXPECT_EQ(seg.layout, GarmentLayout::OnePiece);
   ASSERT_EQ(seg.garments.size(), 1u);
   EXPECT_EQ(seg.garments[0].name, "onepiece");
@@ -109,8 +106,8 @@ TEST(Segmentation, DressIsOnePieceWithItsHemFound_Slow) {
 // can follow the rim.)
 TEST(Segmentation, LongSkirtHemLeavesTheGapCap_Slow) {
   const Case& c = synthCase("long_skirt_gaps", 30000, 5);
-  const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
-                                       c.body.features, fastOptions());
+  const Segmentation seg =
+      segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh, c.body.features);
   const BoundaryReport& ls = seg.boundaries.at(1);
   ASSERT_EQ(ls.name, "L|S");
   EXPECT_TRUE(ls.gapApplied);
@@ -144,7 +141,7 @@ Eigen::MatrixX3d paintedAsSkin(const Case& c, Label label) {
 TEST(Segmentation, BareTorsoIsDetectedAndTheTrousersStillFound_Slow) {
   const Case& c = synthCase("tshirt_trousers", 12000);
   const Segmentation seg = segmentScan(c.scan.scan.mesh, paintedAsSkin(c, Label::Upper),
-                                       c.body.posed.mesh, c.body.features, fastOptions());
+                                       c.body.posed.mesh, c.body.features);
   EXPECT_EQ(seg.layout, GarmentLayout::LowerOnly);
   ASSERT_EQ(seg.garments.size(), 1u);
   EXPECT_EQ(seg.garments[0].name, "lower");
@@ -163,7 +160,7 @@ TEST(Segmentation, BareTorsoIsDetectedAndTheTrousersStillFound_Slow) {
 TEST(Segmentation, BareLegsAreDetected_Slow) {
   const Case& c = synthCase("tshirt_trousers", 12000);
   const Segmentation seg = segmentScan(c.scan.scan.mesh, paintedAsSkin(c, Label::Lower),
-                                       c.body.posed.mesh, c.body.features, fastOptions());
+                                       c.body.posed.mesh, c.body.features);
   EXPECT_EQ(seg.layout, GarmentLayout::UpperOnly);
   ASSERT_EQ(seg.garments.size(), 1u);
   EXPECT_EQ(seg.garments[0].name, "upper");

@@ -85,37 +85,47 @@ double meanY(const Isoline& iso) {
 
 TEST(BoundaryOptimizer, TwoColourCylinderConvergesToTheColourEdge) {
   const CylinderCase c = twoColourCylinder(137, 48, 1.0);
-  const BoundaryResult r = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD);
-  EXPECT_TRUE(r.converged);
-  EXPECT_FALSE(r.vanished);
-  ASSERT_EQ(r.initial.curves.size(), 1u);
-  EXPECT_NEAR(meanY(r.initial), 0.45, 0.005);
-  ASSERT_EQ(r.boundary.curves.size(), 1u);
-  EXPECT_TRUE(r.boundary.curves[0].closed);
-  for (const auto& p : r.boundary.curves[0].points) EXPECT_NEAR(p.position.y(), 0.3, 0.005);
-  // It took about (0.45 − 0.3)/α iterations to travel there.
-  EXPECT_GE(r.iterations, 12);
-  EXPECT_LE(r.iterations, 40);
+  for (const bool faithful : {true, false}) {
+    SCOPED_TRACE(faithful ? "faithful" : "fast");
+    BoundaryOptions o;
+    o.faithful = faithful;
+    const BoundaryResult r = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD, o);
+    EXPECT_TRUE(r.converged);
+    EXPECT_FALSE(r.vanished);
+    ASSERT_EQ(r.initial.curves.size(), 1u);
+    EXPECT_NEAR(meanY(r.initial), 0.45, 0.005);
+    ASSERT_EQ(r.boundary.curves.size(), 1u);
+    EXPECT_TRUE(r.boundary.curves[0].closed);
+    for (const auto& p : r.boundary.curves[0].points) EXPECT_NEAR(p.position.y(), 0.3, 0.005);
+    // It took about (0.45 − 0.3)/α iterations to travel there.
+    EXPECT_GE(r.iterations, 12);
+    EXPECT_LE(r.iterations, 40);
+  }
 }
 
 TEST(BoundaryOptimizer, SameBoundaryAtTwoResolutionsAndScaledTwice_Slow) {
   const CylinderCase fine = twoColourCylinder(137, 48, 1.0);
   const CylinderCase coarse = twoColourCylinder(91, 32, 1.0);
   const CylinderCase big = twoColourCylinder(137, 48, 2.0);
-  const BoundaryOptions o;
-  const BoundaryOptions o2{.alpha = 2 * o.alpha,
-                           .beta = 4 * o.beta,
-                           .tolerance = 4 * o.tolerance,
-                           .heat = {},
-                           .biharmonic = {}};
-  const BoundaryResult rf = optimizeBoundary(fine.mesh, fine.splines, fine.signs, fine.phiD, o);
-  const BoundaryResult rc =
-      optimizeBoundary(coarse.mesh, coarse.splines, coarse.signs, coarse.phiD, o);
-  const BoundaryResult rb = optimizeBoundary(big.mesh, big.splines, big.signs, big.phiD, o2);
-  ASSERT_TRUE(rf.converged && rc.converged && rb.converged);
-  EXPECT_NEAR(meanY(rf.boundary), meanY(rc.boundary), 0.003);
-  EXPECT_NEAR(meanY(rb.boundary), 2 * meanY(rf.boundary), 1e-6);
-  EXPECT_EQ(rb.iterations, rf.iterations);
+  for (const bool faithful : {true, false}) {
+    SCOPED_TRACE(faithful ? "faithful" : "fast");
+    BoundaryOptions o;
+    o.faithful = faithful;
+    const BoundaryOptions o2{.alpha = 2 * o.alpha,
+                             .beta = 4 * o.beta,
+                             .tolerance = 4 * o.tolerance,
+                             .faithful = faithful,
+                             .heat = {},
+                             .biharmonic = {}};
+    const BoundaryResult rf = optimizeBoundary(fine.mesh, fine.splines, fine.signs, fine.phiD, o);
+    const BoundaryResult rc =
+        optimizeBoundary(coarse.mesh, coarse.splines, coarse.signs, coarse.phiD, o);
+    const BoundaryResult rb = optimizeBoundary(big.mesh, big.splines, big.signs, big.phiD, o2);
+    ASSERT_TRUE(rf.converged && rc.converged && rb.converged);
+    EXPECT_NEAR(meanY(rf.boundary), meanY(rc.boundary), 0.003);
+    EXPECT_NEAR(meanY(rb.boundary), 2 * meanY(rf.boundary), 1e-6);
+    EXPECT_EQ(rb.iterations, rf.iterations);
+  }
 }
 
 TEST(BoundaryOptimizer, TwoLegLoopsMergeIntoOneLoopAboveTheFork_Slow) {
@@ -144,9 +154,11 @@ TEST(BoundaryOptimizer, TwoLegLoopsMergeIntoOneLoopAboveTheFork_Slow) {
 
 TEST(BoundaryOptimizer, FastPathReachesTheFaithfulBoundaryOnTheCylinder_Slow) {
   const CylinderCase c = twoColourCylinder(137, 48, 1.0);
-  const BoundaryResult faithful = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD);
-  BoundaryOptions fastOptions;
+  BoundaryOptions faithfulOptions, fastOptions;
+  faithfulOptions.faithful = true;
   fastOptions.faithful = false;
+  const BoundaryResult faithful =
+      optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD, faithfulOptions);
   const BoundaryResult fast = optimizeBoundary(c.mesh, c.splines, c.signs, c.phiD, fastOptions);
   ASSERT_TRUE(fast.converged);
   ASSERT_EQ(fast.boundary.curves.size(), 1u);
