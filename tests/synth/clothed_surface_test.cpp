@@ -334,14 +334,20 @@ TEST(ClothedSurface, SameSeedGivesIdenticalArrays_Slow) {
   }
 }
 
-// Small enough for the sanitizer run: a coarse level set of a simple outfit.
-TEST(ClothedSurface, CoarseOutfitIsClosedAndLabelled) {
+// Small enough for the sanitizer run: a coarse level set of a simple outfit (a sleeveless top
+// and shoes), with normal noise of σ metres.
+ClothedSurface coarseOutfit(double noise = 0) {
   GeometryOptions o;
   o.voxelSize = 0.014;
   o.targetVertices = 0;
+  o.noise = noise;
   Outfit outfit;
   outfit.garments = {spec(GarmentType::SleevelessTop, 0.028), spec(GarmentType::Shoes, 0.02)};
-  const ClothedSurface s = makeClothedSurface(mannequin(), restParams(), outfit, o);
+  return makeClothedSurface(mannequin(), restParams(), outfit, o);
+}
+
+TEST(ClothedSurface, CoarseOutfitIsClosedAndLabelled) {
+  const ClothedSurface s = coarseOutfit();
   expectClosedManifoldConnected(s);
   std::map<int, int> count;
   for (int f = 0; f < s.faceLabel.size(); ++f) ++count[s.faceLabel[f]];
@@ -358,12 +364,7 @@ TEST(ClothedSurface, CoarseOutfitIsClosedAndLabelled) {
 // edge of the noisy surface (before the fix it lay on the clean one, σ away, and a cut along the
 // noisy surface measured longer than the truth from the noise alone).
 TEST(ClothedSurface, TrueBoundariesLieOnTheNoisySurface) {
-  GeometryOptions o;
-  o.voxelSize = 0.014;
-  o.noise = 0.004;
-  Outfit outfit;
-  outfit.garments = {spec(GarmentType::SleevelessTop, 0.028), spec(GarmentType::Shoes, 0.02)};
-  const ClothedSurface s = makeClothedSurface(mannequin(), restParams(), outfit, o);
+  const ClothedSurface s = coarseOutfit(0.004);
   const MeshQuery query(s.mesh);
   int points = 0;
   for (const TrueBoundary& b : s.boundaries)
