@@ -235,12 +235,15 @@ RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb
         throw InputError("colour model: point " + std::to_string(i) + " of region " +
                          std::to_string(r) + " is on face " + std::to_string(p.face) +
                          ", outside the mesh");
-      samples.row(static_cast<int>(i)) = p.interpolate(mesh.F, lab);
+      int corner = 0;
+      p.bary.maxCoeff(&corner);
+      samples.row(static_cast<int>(i)) = lab.row(mesh.F(p.face, corner));
     }
     GmmOptions g = options.gmm;
     g.seed = options.gmm.seed + r;
     out.models.push_back(fitGaussianMixture(samples, g));
     out.means.push_back(samples.colwise().mean().transpose());
+    out.colours.push_back(std::move(samples));
   }
   return out;
 }

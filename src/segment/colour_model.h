@@ -97,11 +97,15 @@ struct ColourDisplacement {
 };
 
 // Smoothed CIELAB colours of a mesh and one mixture per region, fitted on the colours at the
-// region's points (the first half of the displacement, shared by every boundary of a scan).
+// region's points (the first half of the displacement, shared by every boundary of a scan). A
+// point's colour is its nearest vertex's: interpolated across the edge of a print (a dot, a
+// stripe) it would be a blend the garment does not have, and the blends formed a component of
+// their own between the print and the ground colour.
 struct RegionColours {
-  Eigen::MatrixX3d lab;                 // #V×3
-  std::vector<GaussianMixture> models;  // one per region
-  std::vector<Eigen::Vector3d> means;   // mean CIELAB colour of each region's points
+  Eigen::MatrixX3d lab;                  // #V×3
+  std::vector<GaussianMixture> models;   // one per region
+  std::vector<Eigen::Vector3d> means;    // mean CIELAB colour of each region's points
+  std::vector<Eigen::MatrixX3d> colours;  // per region, #points×3: the colour at each point
 };
 RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
                                const std::vector<std::vector<SurfacePoint>>& regions,

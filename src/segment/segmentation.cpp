@@ -486,12 +486,7 @@ class Segmenter {
     for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
-    const Eigen::MatrixXd lab = colours_.lab;
-    for (int r = 0; r < 4; ++r) {
-      regionLab_[r].resize(static_cast<int>(regions[r].size()), 3);
-      for (size_t i = 0; i < regions[r].size(); ++i)
-        regionLab_[r].row(static_cast<int>(i)) = regions[r][i].interpolate(scan_.F, lab);
-    }
+    for (int r = 0; r < 4; ++r) regionLab_[r] = colours_.colours[r];
   }
 
   double deltaE(int a, int b) const { return deltaE2000(colours_.means[a], colours_.means[b]); }

@@ -117,6 +117,33 @@ TEST(ColourModel, MajorityOrUnexplainedComponentsAreKept) {
   EXPECT_EQ(withoutBorrowedComponents(other, upper).components(), other.components());
 }
 
+// A region on a two-colour print (stripes three rings wide), its points anywhere in their faces:
+// the mixture has the two colours and nothing between them. Interpolated at the points, the
+// colours of the faces across each stripe edge are blends, and they made a component of their own
+// (or stretched the two) between the stripe colours.
+TEST(ColourModel, RegionColoursAreTheVerticesNotBlends) {
+  const TriMesh cyl = makeCylinder(60, 24, 0.1, 1.0);
+  const Eigen::RowVector3d a(0.1, 0.5, 0.2), b(0.9, 0.8, 0.1);
+  Eigen::MatrixX3d rgb(cyl.numVertices(), 3);
+  for (int v = 0; v < cyl.numVertices(); ++v) rgb.row(v) = v / 24 / 3 % 2 ? b : a;
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<SurfacePoint> points;
+  for (int f = 0; f < cyl.numFaces(); f += 2) {
+    double x = u(rng), y = u(rng);
+    if (x + y > 1) x = 1 - x, y = 1 - y;
+    points.push_back({f, Eigen::Vector3d(1 - x - y, x, y)});
+  }
+  const RegionColours c = fitRegionColours(cyl, rgb, {points});
+  const Eigen::MatrixX3d ends = srgbToLab(Eigen::MatrixX3d((Eigen::MatrixX3d(2, 3) << a, b).finished()));
+  ASSERT_EQ(c.models.size(), 1u);
+  for (int k = 0; k < c.models[0].components(); ++k)
+    EXPECT_LT(std::min((c.models[0].means.row(k) - ends.row(0)).norm(),
+                       (c.models[0].means.row(k) - ends.row(1)).norm()),
+              1.0)
+        << "component " << k << " of " << c.models[0].components();
+}
+
 TEST(ColourModel, SameSeedSameFit) {
   Eigen::MatrixX3d X = Eigen::MatrixX3d::Random(300, 3) * 20;
   const GaussianMixture a = fitGaussianMixture(X, {.components = 3, .seed = 9});
