@@ -84,7 +84,7 @@ struct ColourRegion {
 };
 
 struct ColourModelOptions {
-  double colourSmoothing = 0;          // metres of RGB smoothing before CIELAB (the paper's)
+  double colourSmoothing = 0;            // metres of RGB smoothing before CIELAB (the paper's)
   double displacementSmoothing = 0.005;  // metres of smoothing of φ_d (ours; see the top)
   int smoothingSteps = 1;
   GmmOptions gmm;
@@ -96,15 +96,15 @@ struct ColourDisplacement {
   std::vector<GaussianMixture> models;  // one per region
 };
 
-// Smoothed CIELAB colours of a mesh and one mixture per region, fitted on the colours at the
-// region's points (the first half of the displacement, shared by every boundary of a scan). A
-// point's colour is its nearest vertex's: interpolated across the edge of a print (a dot, a
-// stripe) it would be a blend the garment does not have, and the blends formed a component of
+// CIELAB colours of a mesh (RGB-smoothed when asked) and one mixture per region, fitted on the
+// colours at the region's points (the first half of the displacement, shared by every boundary of a
+// scan). A point's colour is its nearest vertex's: interpolated across the edge of a print (a dot,
+// a stripe) it would be a blend the garment does not have, and the blends formed a component of
 // their own between the print and the ground colour.
 struct RegionColours {
-  Eigen::MatrixX3d lab;                  // #V×3
-  std::vector<GaussianMixture> models;   // one per region
-  std::vector<Eigen::Vector3d> means;    // mean CIELAB colour of each region's points
+  Eigen::MatrixX3d lab;                   // #V×3
+  std::vector<GaussianMixture> models;    // one per region
+  std::vector<Eigen::Vector3d> means;     // mean CIELAB colour of each region's points
   std::vector<Eigen::MatrixX3d> colours;  // per region, #points×3: the colour at each point
 };
 RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
@@ -113,7 +113,8 @@ RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb
 
 // The displacement of one boundary on `mesh` (the scan, or what earlier cuts left of it):
 // posteriorDisplacement of its colours lab (#V×3), smoothed by options.displacementSmoothing.
-Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh, const std::vector<GaussianMixture>& models,
+Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh,
+                                     const std::vector<GaussianMixture>& models,
                                      const std::vector<bool>& positive, const Eigen::MatrixX3d& lab,
                                      const ColourModelOptions& options);
 

@@ -2,7 +2,6 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
@@ -434,8 +433,8 @@ class Segmenter {
         job.regions.push_back(kFoot);
         job.positive.push_back(true);
         // The mixture must tell the foot's own points from the lower garment's.
-        const double footAsLower = fractionNegative(job, regionLab_[kFoot]);
-        const double lowerAsFoot = 1 - fractionNegative(job, regionLab_[kLower]);
+        const double footAsLower = fractionNegative(job, colours_.colours[kFoot]);
+        const double lowerAsFoot = 1 - fractionNegative(job, colours_.colours[kLower]);
         if (footAsLower > 0.5 || lowerAsFoot > 0.5) {
           job.keepInitial = true;
           out.notes.push_back(fmt::format(
@@ -486,7 +485,6 @@ class Segmenter {
     for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
-    for (int r = 0; r < 4; ++r) regionLab_[r] = colours_.colours[r];
   }
 
   double deltaE(int a, int b) const { return deltaE2000(colours_.means[a], colours_.means[b]); }
@@ -495,7 +493,7 @@ class Segmenter {
   // missing when most of its region looks like skin: the region's mean colour alone would take
   // a red-and-white striped dress (a pinkish mean) for bare skin.
   double skinLikeFraction(int r, double threshold) const {
-    const Eigen::MatrixXd& lab = regionLab_[r];
+    const Eigen::MatrixXd& lab = colours_.colours[r];
     if (lab.rows() == 0) return 0;
     int n = 0;
     for (int i = 0; i < lab.rows(); ++i)
@@ -849,7 +847,6 @@ class Segmenter {
   RegionColours colours_;
   bool hasFootRegion_ = false;
   std::vector<Vec3> footPoints_;  // projected foot region points
-  std::array<Eigen::MatrixX3d, 4> regionLab_;  // CIELAB at each region's points
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;
   std::unique_ptr<MeshQuery> bodyQuery_;

@@ -55,9 +55,10 @@ struct SegmentationOptions {
   // first pass stands (on a scan without gap triangles Eq. 6 only nudges the boundary over the
   // hem's riser, 2–6 mm).
   double gapMinShift = 0.01;
-  // §5.2: the second pass ignores the colour of gap-filling triangles: vertices facing along
-  // the boundary's plane normal whose inward normal meets no body within twice this (m), in a
-  // connected set reaching farther than this from the body (segmentation.cpp, gapWeight).
+  // §5.2: in the second pass gap-filling triangles push off the garment whatever their colour:
+  // vertices facing along the boundary's plane normal whose inward normal meets no body within
+  // twice this (m), in a connected set reaching farther than this from the body
+  // (segmentation.cpp, gapVertices).
   double gapReach = 0.05;
   bool gapFilling = true;
   // §5.3 and the missing-garment tests: two regions are "the same colour" when the CIEDE2000
