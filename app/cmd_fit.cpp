@@ -9,11 +9,13 @@
 
 #include "app/commands.h"
 #include "app/fit_output.h"
+#include "app/pattern_output.h"
 #include "app/run_pipeline.h"
 #include "app/segment_output.h"
 #include "body/body_json.h"
 #include "body/body_source.h"
 #include "core/error.h"
+#include "eval/pattern_metrics.h"
 #include "fit/keypoints.h"
 #include "fit/scan_fit.h"
 #include "io/write_mesh.h"
@@ -94,10 +96,65 @@ int runRun(const RunCommand& cmd, Progress& progress) {
       runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress);
   writeRun(cmd.fit.out, loaded, model, run, progress);
   printRun(run, cmd.fit.out);
+  if (run.patternError) std::rethrow_exception(run.patternError);
   return 0;
 }
 
 // === fit-suite
+
+// The pattern columns of a fit-suite row (and its pattern/ folder): garment types and panel sets
+// against the truth, and where the seams landed.
+std::string patternColumns(const RunOutput& run, const Truth& truth, const Scan& scan,
+                           const fs::path& outDir, json& row) {
+  if (run.patternError) {
+    row["pattern_error"] = run.patternErrorMessage;
+    return fmt::format(" pattern error: {} |||||||", run.patternErrorMessage);
+  }
+  writePanels(outDir / "pattern", scan, run.panels);
+  const PatternScore ps =
+      scorePattern(run.panels, truth, run.fit.fittedInScanFrame(), run.fit.canonicalInScanFrame());
+  std::string types, sets;
+  json garments = json::array();
+  for (const GarmentPatternScore& g : ps.garments) {
+    types += fmt::format("{}{}{}", types.empty() ? "" : ", ", g.foundType.empty() ? "none" : g.foundType,
+                         g.typeOk ? "" : " ✗");
+    sets += fmt::format("{}{}/{}{}", sets.empty() ? "" : ", ", g.foundPanels.size(),
+                        g.expectedPanels.size(), g.panelsOk ? "" : " ✗");
+    garments.push_back({{"truth", g.truthGarment}, {"expected_type", g.expectedType},
+                        {"found_type", g.foundType}, {"expected_panels", g.expectedPanels},
+                        {"found_panels", g.foundPanels}, {"type_ok", g.typeOk},
+                        {"panels_ok", g.panelsOk}});
+  }
+  json armholes = json::object(), mirror = json::object(), sides = json::object();
+  for (const auto& [n, d] : ps.armholeToArmpit) armholes[n] = 1000 * d;
+  for (const auto& [n, d] : ps.mirrorAreaDiff) mirror[n] = d;
+  for (const auto& [n, a] : ps.sideSeamAngle) sides[n] = a;
+  double seconds = 0;
+  for (const auto& [stage, t] : run.stages)
+    if (stage == "panels") seconds = t;
+  row["pattern"] = {{"garments", garments},
+                    {"types_ok", ps.allTypesOk},
+                    {"panels_ok", ps.allPanelsOk},
+                    {"panels", ps.panels},
+                    {"disks", ps.disks},
+                    {"seam_edges", ps.seamEdges},
+                    {"unpartnered", ps.unpartnered},
+                    {"max_partner_mismatch", ps.maxPartnerMismatch},
+                    {"armhole_minus_armpit_mm", armholes},
+                    {"mirror_area_diff", mirror},
+                    {"side_seam_degrees", sides},
+                    {"seconds", seconds}};
+  const auto maxOr = [](bool any, double v, const char* fmtStr) {
+    return any ? fmt::format(fmt::runtime(fmtStr), v) : std::string("–");
+  };
+  double worstArmhole = 0;
+  for (const auto& [n, d] : ps.armholeToArmpit)
+    if (std::abs(d) > std::abs(worstArmhole)) worstArmhole = d;
+  return fmt::format(" {} | {} | {}/{} | {} | {} | {} | {:.2f} |", types, sets, ps.disks, ps.panels,
+                     maxOr(!ps.armholeToArmpit.empty(), 1000 * worstArmhole, "{:+.0f}"),
+                     maxOr(!ps.mirrorAreaDiff.empty(), 100 * ps.maxMirrorAreaDiff(), "{:.1f}"),
+                     maxOr(!ps.sideSeamAngle.empty(), ps.maxSideSeamAngle(), "{:.0f}"), seconds);
+}
 
 struct FitSuiteCommand {
   std::string suiteDir;
@@ -122,8 +179,10 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
   std::string table = fmt::format(
       "| preset | rotation ° | joint mean mm | joint max mm (joint) | inside or ≤5 mm % | yaw "
       "error ° | fit s |{}\n|---|---|---|---|---|---|---|{}\n",
-      cmd.segment ? " garment IoU | boundary mean mm | worst p95 mm |" : "",
-      cmd.segment ? "---|---|---|" : "");
+      cmd.segment ? " garment IoU | boundary mean mm | worst p95 mm | types | panel sets | disks | "
+                    "armhole − armpit mm | mirror area % | side seam ° | panels s |"
+                  : "",
+      cmd.segment ? "---|---|---|---|---|---|---|---|---|---|" : "");
   for (const fs::path& truthPath : truths) {
     const std::string name = truthPath.parent_path().filename().string();
     const Truth truth = readTruth(truthPath);
@@ -183,6 +242,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
                       {"layout", toString(seg.segmentation.layout)}});
           line += fmt::format(" {:.3f} | {:.2f} | {:.2f} |", score.evaluation.meanGarmentIoU,
                               1000 * score.boundaryMean, 1000 * score.worstP95);
+          line += patternColumns(run, truth, loaded.scan, outDir, row);
         }
         table += line + "\n";
       } catch (const Error& err) {

@@ -35,6 +35,7 @@ void addSynthCommands(CLI::App& app, Commands& out);  // synth, bench-suite
 void addSegmentCommand(CLI::App& app, Commands& out);  // segment, segment-suite
 void addFitCommands(CLI::App& app, Commands& out);     // fit, run, fit-suite
 void addRenderViewsCommand(CLI::App& app, Commands& out);  // render-views
+void addPatternCommands(CLI::App& app, Commands& out);  // panels
 
 // === Shared: read + clean + normalise, as every command that takes a SCAN does.
 

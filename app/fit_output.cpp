@@ -109,7 +109,8 @@ void printFit(const ScanFit& fit) {
 }
 
 PosedFeatures fittedFeatures(const BodyModel& model, const ScanFit& fit) {
-  return {fit.fullInScanFrame(), computeFeatures(model, fit.fit.params.shape)};
+  return {fit.fullInScanFrame(), computeFeatures(model, fit.fit.params.shape),
+          fit.canonicalInScanFrame()};
 }
 
 }  // namespace s2p::app

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   app::addSegmentCommand(app, commands);
   app::addFitCommands(app, commands);
   app::addRenderViewsCommand(app, commands);
+  app::addPatternCommands(app, commands);
 
   try {
     app.parse(argc, argv);

@@ -4,7 +4,10 @@
 
 #include <chrono>
 
+#include "core/error.h"
+
 #include "app/fit_output.h"
+#include "app/pattern_output.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -49,6 +52,16 @@ RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                              segmentOptions, &progress),
                  "curve"};
   out.stages.emplace_back("segment", secondsSince(t));
+  t = Clock::now();
+  progress.begin("seams and panels");
+  try {
+    out.panels = runPanels(panelsInput(out.segment.segmentation, body));
+  } catch (const Error& e) {
+    out.patternError = std::current_exception();
+    out.patternErrorMessage = e.what();
+  }
+  progress.end();
+  out.stages.emplace_back("panels", secondsSince(t));
   return out;
 }
 
@@ -59,6 +72,13 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
   for (const auto& w : scan.read.warnings) warnings.push_back(w);
   for (const auto& w : fit.warnings) warnings.push_back("fit: " + w);
   for (const auto& n : seg.notes) warnings.push_back("segment: " + n);
+  for (const auto& w : run.panels.warnings) warnings.push_back("pattern: " + w);
+  json pattern = json::array();
+  for (const GarmentPanels& g : run.panels.garments) {
+    json panels = json::array();
+    for (int p : g.panels) panels.push_back(run.panels.panels[p].name);
+    pattern.push_back({{"garment", g.name}, {"type", g.type}, {"panels", panels}, {"notes", g.notes}});
+  }
   json stages = json::array();
   stages.push_back({{"stage", "read"}, {"seconds", scan.read.seconds}});
   stages.push_back({{"stage", "normalise"}, {"seconds", scan.normalizeSeconds}});
@@ -74,12 +94,15 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
                    {"initialisation", fit.initialisation},
                    {"inside_or_within_5mm", fit.fit.insideOrNear}}},
           {"found", segmentationSummary(seg)},
+          {"pattern", pattern},
+          {"pattern_error", run.patternErrorMessage},
           {"warnings", warnings},
           {"outputs", {{"fit", "fit/: body_fit.obj, body_full.obj, body.json, fit_front.png, "
                                "fit_side.png"},
                        {"segment", "segment/: segmentation.ply, " + garmentFileList(seg) +
                                        "garments.json, boundaries.json, segment_boundaries.png, "
-                                       "segment_labels.png"}}}};
+                                       "segment_labels.png"},
+                       {"pattern", "pattern/: panels.json, panels_3d.obj, panels.png"}}}};
 }
 
 void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& model,
@@ -87,6 +110,7 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
   progress.begin("write outputs");
   writeFit(dir / "fit", scan.scan, model, run.fit);
   writeSegmentation(dir / "segment", scan.scan, run.segment);
+  if (!run.patternError) writePanels(dir / "pattern", scan.scan, run.panels);
   writeJson(dir / "report.json", runReport(scan, model, run));
   progress.end();
 }
@@ -94,8 +118,10 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
 void printRun(const RunOutput& run, const fs::path& dir) {
   printFit(run.fit);
   printSegmentation(run.segment.segmentation);
+  printPanels(run.panels);
   fmt::print("wrote {0}/report.json; pictures: {0}/fit/fit_front.png, {0}/fit/fit_side.png, "
-             "{0}/segment/segment_boundaries.png, {0}/segment/segment_labels.png\n",
+             "{0}/segment/segment_boundaries.png, {0}/segment/segment_labels.png, "
+             "{0}/pattern/panels.png\n",
              dir.string());
 }
 

@@ -86,7 +86,8 @@ PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& 
                               const fs::path& jsonDir) {
   progress.begin("pose body");
   BodyFromJson b = bodyFromJson(bodyJson);
-  PosedFeatures out{std::move(b.posed.mesh), std::move(b.features)};
+  PosedFeatures out{std::move(b.posed.mesh), std::move(b.features),
+                    toFrame(toScanFile(bodyJson), b.posed.canonical)};
   const bool full = bodyJson.contains("full_mesh") && bodyJson["full_mesh"].is_string() &&
                     !jsonDir.empty();
   const fs::path fullPath = full ? jsonDir / bodyJson["full_mesh"].get<std::string>() : fs::path();
@@ -99,6 +100,7 @@ PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& 
     out.body.V = toFrame(toScanFile(bodyJson), out.body.V);
   }
   out.body.V = toFrame(scan.toInputFrame.inverse(), out.body.V);
+  out.canonical = toFrame(scan.toInputFrame.inverse(), out.canonical);
   progress.end();
   return out;
 }

@@ -19,6 +19,7 @@ namespace s2p::app {
 struct PosedFeatures {
   TriMesh body;
   FeatureSet features;
+  Eigen::MatrixX3d canonical;  // kNumCanonical×3, the posed body's canonical points
 };
 PosedFeatures poseBodyForScan(const nlohmann::json& bodyJson, const Scan& scan,
                               Progress& progress, const std::filesystem::path& jsonDir = {});

@@ -296,4 +296,30 @@ BoundaryResult optimizeBoundary(const TriMesh& mesh,
   return o.run(splines, signs, phiD);
 }
 
+int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
+                  const std::vector<ValueConstraint>& signs) {
+  const MeshTopology topo(mesh.F, mesh.numVertices());
+  const Eigen::VectorXd area = vertexAreas(mesh);
+  const int nV = mesh.numVertices();
+  const VertexRegions vr = vertexRegions(topo, [&](int e) {
+    return (phi[topo.edges()(e, 0)] < 0) == (phi[topo.edges()(e, 1)] < 0);
+  });
+  const std::vector<int>& region = vr.region;
+  std::vector<double> regionArea(vr.count, 0.0);
+  for (int v = 0; v < nV; ++v) regionArea[region[v]] += area[v];
+  std::vector<char> keep(regionArea.size(), 0);
+  for (const ValueConstraint& c : signs)
+    for (int k = 0; k < 3; ++k) keep[region[mesh.F(c.point.face, k)]] = 1;
+  int flipped = 0;
+  std::vector<char> flip(regionArea.size(), 0);
+  for (size_t r = 0; r < regionArea.size(); ++r)
+    if (!keep[r] && regionArea[r] < minArea) {
+      flip[r] = 1;
+      ++flipped;
+    }
+  for (int v = 0; v < nV; ++v)
+    if (flip[region[v]]) phi[v] = phi[v] < 0 ? std::max(-phi[v], 1e-9) : std::min(-phi[v], -1e-9);
+  return flipped;
+}
+
 }  // namespace s2p

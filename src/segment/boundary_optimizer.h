@@ -122,6 +122,13 @@ Eigen::VectorXd regionSigns(const TriMesh& mesh, const MeshTopology& topology,
                             const std::vector<ValueConstraint>& constraints,
                             const Eigen::VectorXd& votes);
 
+// Regions of either sign with less than `minArea` (m²) that hold no sign point take the sign of
+// their surroundings (φ → −φ there): specks of a garment's print that look like the other side
+// (a yellow dot on a shirt above khaki trousers) survive the length regularisation as small
+// loops. Returns the number of regions flipped.
+int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
+                  const std::vector<ValueConstraint>& signs);
+
 // One-shot version.
 BoundaryResult optimizeBoundary(const TriMesh& mesh,
                                 const std::vector<std::vector<SurfacePoint>>& splines,

@@ -1,6 +1,9 @@
 #include "segment/mesh_cut.h"
 
 #include <array>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 namespace s2p {
 
@@ -110,6 +113,56 @@ CutResult cutAlongIsoline(const TriMesh& mesh, const MeshTopology& topology,
   result.negative = neg.finish();
   result.positive = pos.finish();
   return result;
+}
+
+Eigen::VectorXd awayFromZero(Eigen::VectorXd phi, const TriMesh& mesh) {
+  const double eps = 1e-4 * meanEdgeLength(mesh);
+  for (int v = 0; v < phi.size(); ++v)
+    if (std::abs(phi[v]) < eps) phi[v] = phi[v] < 0 ? -eps : eps;
+  return phi;
+}
+
+RefinedMesh refineAlongIsoline(const TriMesh& mesh, const MeshTopology& topology,
+                               const Eigen::VectorXd& phi) {
+  const CutResult cut = cutAlongIsoline(mesh, topology, phi);
+  RefinedMesh out;
+  // A vertex is known by its origin: an original vertex, or the one crossing of a crossed edge,
+  // which both sides created from the same (a, b, t): the two sides join exactly.
+  std::unordered_map<std::int64_t, int> id;
+  const std::int64_t n = mesh.numVertices();
+  const auto vertexOf = [&](const VertexOrigin& o) {
+    const auto [it, added] = id.try_emplace(o.a * n + o.b, static_cast<int>(out.vertexOrigin.size()));
+    if (added) out.vertexOrigin.push_back(o);
+    return it->second;
+  };
+  const int nF = cut.negative.mesh.numFaces() + cut.positive.mesh.numFaces();
+  out.mesh.F.resize(nF, 3);
+  out.faceOrigin.resize(nF);
+  out.faceSide.resize(nF);
+  int f = 0;
+  for (const CutPart* part : {&cut.negative, &cut.positive}) {
+    for (int g = 0; g < part->mesh.numFaces(); ++g, ++f) {
+      for (int k = 0; k < 3; ++k) out.mesh.F(f, k) = vertexOf(part->vertexOrigin[part->mesh.F(g, k)]);
+      out.faceOrigin[f] = part->faceOrigin[g];
+      out.faceSide[f] = part == &cut.positive ? 1 : 0;
+    }
+  }
+  out.mesh.V.resize(static_cast<int>(out.vertexOrigin.size()), 3);
+  for (size_t i = 0; i < out.vertexOrigin.size(); ++i) {
+    const VertexOrigin& o = out.vertexOrigin[i];
+    out.mesh.V.row(static_cast<int>(i)) = (1 - o.t) * mesh.V.row(o.a) + o.t * mesh.V.row(o.b);
+  }
+  return out;
+}
+
+Eigen::VectorXd carryToVertices(const std::vector<VertexOrigin>& origin,
+                                const Eigen::VectorXd& values) {
+  Eigen::VectorXd out(static_cast<int>(origin.size()));
+  for (size_t i = 0; i < origin.size(); ++i) {
+    const VertexOrigin& o = origin[i];
+    out[static_cast<int>(i)] = (1 - o.t) * values[o.a] + o.t * values[o.b];
+  }
+  return out;
 }
 
 }  // namespace s2p

@@ -258,46 +258,6 @@ std::vector<bool> gapVertices(const TriMesh& mesh, const Eigen::VectorXd& phiDn,
   return out;
 }
 
-// φ with values within 1e-4 edge lengths of zero moved off it, so that no cut leaves a
-// zero-area sliver (a vertex with no area has no row in M + βL on the next stage). Moves the
-// boundary by at most 0.1 µm on a 1 mm mesh.
-Eigen::VectorXd awayFromZero(Eigen::VectorXd phi, const TriMesh& mesh) {
-  const double eps = 1e-4 * meanEdgeLength(mesh);
-  for (int v = 0; v < phi.size(); ++v)
-    if (std::abs(phi[v]) < eps) phi[v] = phi[v] < 0 ? -eps : eps;
-  return phi;
-}
-
-// Regions of either sign with less than `minArea` that hold no sign point take the sign of
-// their surroundings (φ → −φ there): specks of a garment's print that look like the other side
-// (a yellow dot on a shirt above khaki trousers) survive the length regularisation as small
-// loops. Returns the number of regions flipped.
-int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
-                  const std::vector<ValueConstraint>& signs) {
-  const MeshTopology topo(mesh.F, mesh.numVertices());
-  const Eigen::VectorXd area = vertexAreas(mesh);
-  const int nV = mesh.numVertices();
-  const VertexRegions vr = vertexRegions(topo, [&](int e) {
-    return (phi[topo.edges()(e, 0)] < 0) == (phi[topo.edges()(e, 1)] < 0);
-  });
-  const std::vector<int>& region = vr.region;
-  std::vector<double> regionArea(vr.count, 0.0);
-  for (int v = 0; v < nV; ++v) regionArea[region[v]] += area[v];
-  std::vector<char> keep(regionArea.size(), 0);
-  for (const ValueConstraint& c : signs)
-    for (int k = 0; k < 3; ++k) keep[region[mesh.F(c.point.face, k)]] = 1;
-  int flipped = 0;
-  std::vector<char> flip(regionArea.size(), 0);
-  for (size_t r = 0; r < regionArea.size(); ++r)
-    if (!keep[r] && regionArea[r] < minArea) {
-      flip[r] = 1;
-      ++flipped;
-    }
-  for (int v = 0; v < nV; ++v)
-    if (flip[region[v]]) phi[v] = phi[v] < 0 ? std::max(-phi[v], 1e-9) : std::min(-phi[v], -1e-9);
-  return flipped;
-}
-
 double meanHeight(const Isoline& iso) {
   double sum = 0, len = 0;
   forEachSegment(iso, [&](const Vec3& a, const Vec3& b) {

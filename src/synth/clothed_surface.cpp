@@ -335,6 +335,9 @@ ClothedSurface makeClothedSurface(const BodyModel& model, const BodyParams& para
     t.type = toString(s.type);
     t.label = labelOf(s.type);
     t.onePiece = isOnePiece(s.type);
+    const ExpectedPattern pattern = expectedPattern(s.type);
+    t.patternType = pattern.type;
+    t.panels = pattern.panels;
     for (int f = 0; f < mesh.numFaces(); ++f)
       if (out.faceLayer[f] == g && out.faceLabel[f] != static_cast<int>(Label::Gap))
         t.visibleArea += area[f];

@@ -85,4 +85,25 @@ bool isFreeHanging(GarmentType type) {
          type == GarmentType::LongSkirt;
 }
 
+ExpectedPattern expectedPattern(GarmentType type) {
+  using G = GarmentType;
+  const std::vector<std::string> top = {"back", "front", "left_sleeve", "right_sleeve"};
+  const std::vector<std::string> legs = {"left_back", "left_front", "right_back", "right_front"};
+  switch (type) {
+    case G::TShirt: return {"tshirt", top};
+    case G::LongSleeveShirt:
+    case G::Jacket: return {"long_sleeve_shirt", top};
+    case G::SleevelessTop: return {"sleeveless_top", {"back", "front"}};
+    case G::Dress: return {"dress", {"back", "front"}};
+    case G::Trousers: return {"trousers", legs};
+    case G::Shorts: return {"shorts", legs};
+    case G::KneeSkirt:
+    case G::LongSkirt: return {"skirt", {"back", "front"}};
+    case G::Shoes:
+    case G::Hair:
+    case G::Bag: return {};
+  }
+  return {};
+}
+
 }  // namespace s2p

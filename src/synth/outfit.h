@@ -33,6 +33,16 @@ Label labelOf(GarmentType type);          // Upper, Lower, Shoes, Hair, Other (a
 bool isOnePiece(GarmentType type);        // Dress
 bool isFreeHanging(GarmentType type);     // Dress, KneeSkirt, LongSkirt
 
+// The pattern a garment of this type should give (truth.json "pattern"): its garment type as
+// the pattern stage names it and its panel names, sorted. A jacket seen from outside is a
+// long-sleeved top (the generator makes no front opening or collar); knee and long skirts are
+// skirts. Shoes, hair and bags give none (empty type).
+struct ExpectedPattern {
+  std::string type;
+  std::vector<std::string> panels;
+};
+ExpectedPattern expectedPattern(GarmentType type);
+
 enum class PatternKind { Solid, Stripes, Checks, Dots, Noise };
 const char* toString(PatternKind kind);
 std::optional<PatternKind> parsePatternKind(std::string_view name);

@@ -140,13 +140,16 @@ nlohmann::json truthToJson(const Truth& t) {
   for (int i = 0; i < kNumLabels; ++i) labels[toString(static_cast<Label>(i))] = i;
   j["label_codes"] = labels;
   nlohmann::json garments = nlohmann::json::array();
-  for (const TrueGarment& g : t.garments)
-    garments.push_back({{"name", g.name},
-                        {"type", g.type},
-                        {"label", toString(g.label)},
-                        {"one_piece", g.onePiece},
-                        {"occludes", g.occludes},
-                        {"visible_area_m2", g.visibleArea}});
+  for (const TrueGarment& g : t.garments) {
+    nlohmann::json tg = {{"name", g.name},
+                         {"type", g.type},
+                         {"label", toString(g.label)},
+                         {"one_piece", g.onePiece},
+                         {"occludes", g.occludes},
+                         {"visible_area_m2", g.visibleArea}};
+    if (!g.patternType.empty()) tg["pattern"] = {{"type", g.patternType}, {"panels", g.panels}};
+    garments.push_back(tg);
+  }
   j["garments"] = garments;
   j["body"] = t.body;
   j["boundaries"] = boundariesToJson(t.boundaries);
@@ -174,6 +177,11 @@ Truth truthFromJson(const nlohmann::json& j, const std::string& what) {
     tg.onePiece = r.get<bool>(g, "one_piece", ctx);
     if (g.contains("occludes")) tg.occludes = r.get<std::vector<std::string>>(g, "occludes", ctx);
     if (g.contains("visible_area_m2")) tg.visibleArea = r.get<double>(g, "visible_area_m2", ctx);
+    if (g.contains("pattern")) {
+      const auto& p = g.at("pattern");
+      tg.patternType = r.get<std::string>(p, "type", ctx + " pattern");
+      tg.panels = r.get<std::vector<std::string>>(p, "panels", ctx + " pattern");
+    }
     t.garments.push_back(std::move(tg));
   }
   t.body = r.at(j, "body", "the file");

@@ -25,6 +25,11 @@ struct TrueGarment {
   bool onePiece = false;       // covers upper and lower body in one piece (dress, §5.3)
   std::vector<std::string> occludes;  // garments whose part this one hides (upper over lower)
   double visibleArea = 0;      // m², area of the scan surface it shows (0: fully hidden)
+  // The pattern it should give (Patterns I): garment type (tshirt, long_sleeve_shirt,
+  // sleeveless_top, trousers, shorts, skirt, dress) and panel names, sorted; empty for shoes,
+  // hair and bags.
+  std::string patternType;
+  std::vector<std::string> panels;
 };
 
 // The true boundary between two labels: the curves where the label changes on the scan.

@@ -1,0 +1,135 @@
+// panels: the pattern stage's first half (paper §6.1) alone, on a fit + segment output: seam
+// lines, panels, edges and garment types.
+#include <fmt/format.h>
+
+#include <fstream>
+#include <map>
+#include <memory>
+
+#include "app/commands.h"
+#include "app/pattern_output.h"
+#include "app/segment_output.h"
+#include "core/error.h"
+#include "io/read_scan.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace s2p::app {
+namespace {
+
+struct PanelsCommand {
+  std::string scan;
+  std::string body;
+  std::string truth;
+  std::string segmentation;
+  std::string out = "panels_out";
+  LoadOptions load;
+};
+
+json readJson(const fs::path& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw IoError(fmt::format("cannot read {} {}", what, path.string()));
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw FormatError(fmt::format("{} {} is not JSON: {}", what, path.string(), e.what()));
+  }
+}
+
+// A garment OBJ written by `segment`, back in the normalised frame, with the vertices an OBJ
+// reader split per corner joined again (exact positions: the file holds each vertex once).
+TriMesh readGarment(const fs::path& path, const Scan& scan) {
+  ReadOptions ro;
+  ro.loadTexture = false;
+  const Scan g = readScan(path, ro);
+  TriMesh m;
+  std::map<std::array<double, 3>, int> id;
+  std::vector<Eigen::Vector3d> V;
+  m.F.resize(g.mesh.numFaces(), 3);
+  for (int f = 0; f < g.mesh.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d p = g.mesh.V.row(g.mesh.F(f, k)).transpose();
+      const auto [it, added] = id.try_emplace({p.x(), p.y(), p.z()}, static_cast<int>(V.size()));
+      if (added) V.push_back(p);
+      m.F(f, k) = it->second;
+    }
+  m.V.resize(static_cast<int>(V.size()), 3);
+  const Eigen::Affine3d toNormal = scan.toInputFrame.inverse();
+  for (size_t i = 0; i < V.size(); ++i) m.V.row(static_cast<int>(i)) = (toNormal * V[i]).transpose();
+  return m;
+}
+
+int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
+  if (cmd.truth.empty() == cmd.body.empty())
+    throw CLI::ValidationError("--truth/--body", "give exactly one of --truth and --body");
+  json bodyJson;
+  fs::path bodyDir;
+  if (!cmd.body.empty()) {
+    bodyJson = readJson(cmd.body, "body file");
+    bodyDir = fs::path(cmd.body).parent_path();
+  } else {
+    const json t = readJson(cmd.truth, "truth file");
+    if (!t.contains("body") || !t["body"].is_object())
+      throw FormatError(fmt::format("truth file {} has no \"body\" object", cmd.truth));
+    bodyJson = t["body"];
+  }
+  const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
+  const PosedFeatures body = poseBodyForScan(bodyJson, loaded.scan, progress, bodyDir);
+  const fs::path segDir = cmd.segmentation;
+  const json garments = readJson(segDir / "garments.json", "garment list");
+  PanelsInput in;
+  in.body = body.body;
+  in.features = body.features;
+  in.canonical = body.canonical;
+  try {
+    for (const json& g : garments.at("garments")) {
+      PanelsInput::Garment pg;
+      pg.name = g.at("name").get<std::string>();
+      pg.kind = pg.name == "onepiece" ? GarmentKind::OnePiece
+                : pg.name == "lower"  ? GarmentKind::Lower
+                                      : GarmentKind::Upper;
+      pg.mesh = readGarment(segDir / g.at("file").get<std::string>(), loaded.scan);
+      const std::vector<int> origin = g.at("face_origin").get<std::vector<int>>();
+      if (static_cast<int>(origin.size()) != pg.mesh.numFaces())
+        throw FormatError(fmt::format("{}: garment '{}' has {} faces but {} face_origin entries",
+                                      (segDir / "garments.json").string(), pg.name,
+                                      pg.mesh.numFaces(), origin.size()));
+      pg.faceOrigin = Eigen::Map<const Eigen::VectorXi>(origin.data(), static_cast<int>(origin.size()));
+      in.garments.push_back(std::move(pg));
+    }
+  } catch (const json::exception& e) {
+    throw FormatError(fmt::format("{} is not a garment list written by `segment`: {}",
+                                  (segDir / "garments.json").string(), e.what()));
+  }
+  progress.begin("seams and panels");
+  const PanelsResult r = runPanels(in);
+  progress.end();
+  writePanels(cmd.out, loaded.scan, r);
+  printPanels(r);
+  fmt::print("wrote {}/: panels.json, panels_3d.obj, panels.png\n", cmd.out);
+  return 0;
+}
+
+}  // namespace
+
+void addPatternCommands(CLI::App& app, Commands& out) {
+  auto c = std::make_shared<PanelsCommand>();
+  auto* cmd = app.add_subcommand(
+      "panels",
+      "Seam lines, panels and garment types (paper §6.1) on a fit + segment output: the body's "
+      "seam features projected onto each cut garment, the garment cut into disk-shaped panels, "
+      "their edges tagged as openings or seams with partners; writes panels.json, "
+      "panels_3d.obj and panels.png");
+  cmd->add_option("scan", c->scan, "The scan the segmentation was made on")->required();
+  cmd->add_option("--body", c->body, "body.json from `fit` (its body_full.obj beside it)");
+  cmd->add_option("--truth", c->truth, "A synthetic scan's truth.json: use its true body");
+  cmd->add_option("--segmentation", c->segmentation,
+                  "The folder `segment` wrote (garments.json and the garment OBJs)")
+      ->required();
+  cmd->add_option("-o,--out", c->out, "Output folder (default panels_out)");
+  addLoadOptions(cmd, c->load);
+  out.push_back({cmd, [c](Progress& progress) { return runPanelsCommand(*c, progress); }});
+}
+
+}  // namespace s2p::app

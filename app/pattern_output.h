@@ -1,0 +1,24 @@
+// What the pattern stage writes into OUT/pattern/: panels.json (panels, edges with tags and
+// partners, corners, garment types, seams removed and why), panels_3d.obj (one group per
+// panel) and panels.png (the scan with the panels coloured and the seam lines drawn).
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "app/segment_output.h"
+#include "io/scan.h"
+#include "pattern/panels.h"
+
+namespace s2p::app {
+
+// The segmentation's garments with the posed body, its features and canonical points.
+PanelsInput panelsInput(const Segmentation& segmentation, const PosedFeatures& body);
+
+// All coordinates in the scan file's frame (toInput).
+nlohmann::json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput);
+
+void writePanels(const std::filesystem::path& dir, const Scan& scan, const PanelsResult& r);
+void printPanels(const PanelsResult& r);
+
+}  // namespace s2p::app

@@ -1,0 +1,80 @@
+#include "pattern/body_frame.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+
+namespace s2p {
+
+const char* toString(Limb limb) {
+  switch (limb) {
+    case Limb::Torso: return "torso";
+    case Limb::Neck: return "neck";
+    case Limb::LeftArm: return "left_arm";
+    case Limb::RightArm: return "right_arm";
+    case Limb::LeftLeg: return "left_leg";
+    case Limb::RightLeg: return "right_leg";
+  }
+  return "?";
+}
+
+BodyFrame::BodyFrame(const Eigen::MatrixX3d& canonical) : canonical_(canonical) {
+  if (canonical.rows() != kNumCanonical || !canonical.allFinite())
+    throw InputError(fmt::format("pattern: the body's canonical points are {} finite rows, {} "
+                                 "expected (a body.json from `fit` has them)",
+                                 canonical.rows(), kNumCanonical));
+  up_ = (at(Canonical::Neck) - at(Canonical::Pelvis)).normalized();
+  const Eigen::Vector3d hips = at(Canonical::LeftHip) - at(Canonical::RightHip);
+  left_ = (hips - hips.dot(up_) * up_).normalized();
+  front_ = left_.cross(up_);
+  if (!up_.allFinite() || !left_.allFinite())
+    throw InputError("pattern: the body's canonical points are degenerate (hips or spine of zero "
+                     "length)");
+}
+
+LimbPlace BodyFrame::placeOn(Limb limb, const Eigen::Vector3d& p) const {
+  using C = Canonical;
+  std::array<C, 3> chain;
+  int n = 3;
+  switch (limb) {
+    case Limb::Torso: chain = {C::Pelvis, C::Neck, C::Neck}; n = 2; break;
+    case Limb::Neck: chain = {C::Neck, C::Head, C::Head}; n = 2; break;
+    case Limb::LeftArm: chain = {C::LeftShoulder, C::LeftElbow, C::LeftWrist}; break;
+    case Limb::RightArm: chain = {C::RightShoulder, C::RightElbow, C::RightWrist}; break;
+    case Limb::LeftLeg: chain = {C::LeftHip, C::LeftKnee, C::LeftAnkle}; break;
+    case Limb::RightLeg: chain = {C::RightHip, C::RightKnee, C::RightAnkle}; break;
+  }
+  double total = 0;
+  for (int i = 0; i + 1 < n; ++i) total += (at(chain[i + 1]) - at(chain[i])).norm();
+  LimbPlace best{limb, std::numeric_limits<double>::infinity(), 0};
+  double before = 0;
+  for (int i = 0; i + 1 < n; ++i) {
+    const Eigen::Vector3d a = at(chain[i]), b = at(chain[i + 1]);
+    const double len = (b - a).norm();
+    const double u = len > 0 ? std::clamp((p - a).dot(b - a) / (len * len), 0.0, 1.0) : 0.0;
+    const double d = (a + u * (b - a) - p).norm();
+    if (d < best.distance) {
+      best.distance = d;
+      best.t = total > 0 ? (before + u * len) / total : 0;
+    }
+    before += len;
+  }
+  return best;
+}
+
+LimbPlace BodyFrame::nearestLimb(const Eigen::Vector3d& p) const {
+  LimbPlace best{Limb::Torso, std::numeric_limits<double>::infinity(), 0};
+  for (Limb l : {Limb::Torso, Limb::Neck, Limb::LeftArm, Limb::RightArm, Limb::LeftLeg,
+                 Limb::RightLeg}) {
+    const LimbPlace q = placeOn(l, p);
+    if (q.distance < best.distance) best = q;
+  }
+  return best;
+}
+
+}  // namespace s2p

@@ -1,0 +1,268 @@
+#include "pattern/seam_lines.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <memory>
+#include <optional>
+
+#include "core/error.h"
+#include "core/mesh_query.h"
+#include "core/mesh_topology.h"
+#include "segment/surface_spline.h"
+
+namespace s2p {
+
+const char* toString(SeamKind kind) {
+  switch (kind) {
+    case SeamKind::FrontBack: return "front_back";
+    case SeamKind::Armhole: return "armhole";
+    case SeamKind::LeftRight: return "left_right";
+  }
+  return "?";
+}
+
+const char* toString(GarmentKind kind) {
+  switch (kind) {
+    case GarmentKind::Upper: return "upper";
+    case GarmentKind::Lower: return "lower";
+    case GarmentKind::OnePiece: return "onepiece";
+  }
+  return "?";
+}
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Where an opening starts counting as a cuff rather than an armhole: a fifth of the way from
+// the shoulder to the wrist (a sleeveless armhole sits at the shoulder joint, t ≈ 0–0.1; the
+// shortest cap sleeve ends at t ≈ 0.25).
+constexpr double kCuffT = 0.2;
+
+bool isArm(Limb l) { return l == Limb::LeftArm || l == Limb::RightArm; }
+bool isLeg(Limb l) { return l == Limb::LeftLeg || l == Limb::RightLeg; }
+const char* sideOf(Limb l) { return l == Limb::LeftArm || l == Limb::LeftLeg ? "left" : "right"; }
+
+std::vector<std::string> featureNames(SeamKind kind, GarmentKind garment) {
+  switch (kind) {
+    case SeamKind::FrontBack:
+      if (garment == GarmentKind::Upper) return {"upper_side"};
+      if (garment == GarmentKind::Lower) return {"lower_side"};
+      return {"upper_side", "lower_side"};
+    case SeamKind::Armhole:
+      if (garment == GarmentKind::Lower) return {};
+      return {"shoulder"};
+    case SeamKind::LeftRight:
+      if (garment == GarmentKind::Upper) return {};
+      return {"crotch"};
+  }
+  return {};
+}
+
+const char* seamName(SeamKind kind) {
+  switch (kind) {
+    case SeamKind::FrontBack: return "side";
+    case SeamKind::Armhole: return "armhole";
+    case SeamKind::LeftRight: return "crotch";
+  }
+  return "?";
+}
+
+// Boundary points of an opening about `spacing` apart, as value constraints.
+void addOpeningConstraints(const MeshTopology& topo, const TriMesh& mesh, const Opening& o,
+                           double spacing, double value, std::vector<ValueConstraint>& out) {
+  double since = spacing;
+  for (size_t i = 0; i < o.vertices.size(); ++i) {
+    const int v = o.vertices[i];
+    if (i > 0) since += (mesh.V.row(v) - mesh.V.row(o.vertices[i - 1])).norm();
+    if (since < spacing) continue;
+    since = 0;
+    out.push_back({SurfacePoint::atVertex(topo, mesh.F, v), value});
+  }
+}
+
+}  // namespace
+
+std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology& topology,
+                                      GarmentKind kind, const BodyFrame& frame) {
+  using C = Canonical;
+  const double shoulderH =
+      0.5 * (frame.height(frame.at(C::LeftShoulder)) + frame.height(frame.at(C::RightShoulder)));
+  const double hipH = 0.5 * (frame.height(frame.at(C::LeftHip)) + frame.height(frame.at(C::RightHip)));
+  const double hipHalf =
+      0.5 * std::abs(frame.lateral(frame.at(C::LeftHip)) - frame.lateral(frame.at(C::RightHip)));
+  std::vector<Opening> out;
+  for (const std::vector<int>& loop : topology.boundaryLoops()) {
+    Opening o;
+    o.vertices = loop;
+    Vec3 sum = Vec3::Zero();
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const Vec3 a = garment.V.row(loop[i]).transpose();
+      const Vec3 b = garment.V.row(loop[(i + 1) % loop.size()]).transpose();
+      const double len = (b - a).norm();
+      sum += 0.5 * len * (a + b);
+      o.length += len;
+    }
+    o.centroid = o.length > 0 ? Vec3(sum / o.length) : Vec3(garment.V.row(loop[0]).transpose());
+    const LimbPlace place = frame.nearestLimb(o.centroid);
+    o.limb = place.limb;
+    o.t = place.t;
+    const double h = frame.height(o.centroid);
+    if (isArm(place.limb)) {
+      o.name = fmt::format("{}_{}", sideOf(place.limb), place.t > kCuffT ? "cuff" : "armhole");
+    } else if (place.limb == Limb::Neck || (place.limb == Limb::Torso && h > 0.5 * shoulderH)) {
+      o.name = "neckline";
+    } else if (isLeg(place.limb) && std::abs(frame.lateral(o.centroid)) > 0.5 * hipHalf &&
+               h < hipH - 0.05) {
+      o.name = fmt::format("{}_leg_opening", sideOf(place.limb));
+    } else if (kind == GarmentKind::Lower && h > hipH - 0.05) {
+      o.name = "waistband";
+    } else {
+      o.name = "hem";  // around the trunk, or around both legs (a skirt's hem)
+    }
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
+std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
+                                    const FeatureSet& features,
+                                    const std::vector<Opening>& openings,
+                                    const SeamOptions& options) {
+  validateMesh(garment, "garment");
+  ProjectionOptions popt = options.projection;
+  const BoundingBox bb = boundingBox(body.V);
+  popt.bodyLength = std::max(bb.extent().maxCoeff(), 1e-3);
+  const FeatureProjector projector(body, garment, popt);
+  const MeshQuery query(garment);
+  const MeshTopology topo(garment.F, garment.numVertices());
+  const double spacing = std::max(options.splineSpacing, meanEdgeLength(garment));
+  std::unique_ptr<BoundaryOptimizer> optimizer;  // built once, for the first seam kept
+  BoundaryOptions bopt = options.boundary;
+  bopt.maxIterations = std::max(1, options.regularisationSteps);
+  const Eigen::VectorXd noDisplacement = Eigen::VectorXd::Zero(garment.numVertices());
+
+  std::vector<SeamLine> out;
+  for (SeamKind kind_ : {SeamKind::FrontBack, SeamKind::Armhole, SeamKind::LeftRight}) {
+    const std::vector<std::string> names = featureNames(kind_, kind);
+    if (names.empty()) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    SeamLine seam;
+    seam.kind = kind_;
+    seam.name = seamName(kind_);
+    seam.features = names;
+    std::vector<std::vector<SurfacePoint>> zeros;
+    std::vector<ValueConstraint> signs;
+    std::vector<Vec3> prior;
+    for (const std::string& fname : names) {
+      const CurveFeatures* f = features.seam(fname);
+      if (!f)
+        throw InputError(fmt::format("pattern: the feature set has no seam '{}' (a features.json "
+                                     "from an older version? rerun `fit`)",
+                                     fname));
+      for (const FeatureSpline& s : f->splines) {
+        const std::vector<ProjectedPoint> p = projector.project(s.anchors);
+        std::vector<ProjectedPoint> kept;
+        for (const ProjectedPoint& q : p)
+          if (q.ok()) kept.push_back(q);
+        seam.anchors += static_cast<int>(p.size());
+        seam.droppedAnchors += static_cast<int>(p.size() - kept.size());
+        std::string why;
+        if (static_cast<int>(kept.size()) < options.minAnchors)
+          why = fmt::format("{} of {} anchors survived the ill-projection tests, {} needed",
+                            kept.size(), p.size(), options.minAnchors);
+        // A sleeve exists only where the garment has an opening on that arm beyond the
+        // armhole (a cuff): the arm-side value of §6.1.2 has nowhere to go on a sleeveless top.
+        std::optional<Limb> arm;
+        if (kind_ == SeamKind::Armhole) {
+          arm = s.name.rfind("left", 0) == 0 ? Limb::LeftArm : Limb::RightArm;
+          bool cuff = false;
+          for (const Opening& o : openings) cuff |= o.limb == *arm && o.t > kCuffT;
+          if (!cuff && why.empty()) why = "the garment has no opening on that arm (no sleeve)";
+        }
+        if (!why.empty()) {
+          seam.splinesRemoved.push_back(fmt::format("{}: {}", s.name, why));
+          continue;
+        }
+        seam.splinesKept.push_back(s.name);
+        if (kind_ == SeamKind::Armhole) {
+          // §6.1.2: zero on the projected anchors only, not on a spline through them.
+          std::vector<SurfacePoint> pts;
+          for (const ProjectedPoint& q : kept) {
+            pts.push_back(q.point);
+            prior.push_back(q.p);
+          }
+          zeros.push_back(std::move(pts));
+          for (const Opening& o : openings)
+            if (o.limb == *arm && o.t > kCuffT)
+              addOpeningConstraints(topo, garment, o, options.boundaryConstraintSpacing, -1.0, signs);
+        } else {
+          Eigen::MatrixX3d A(static_cast<int>(kept.size()), 3);
+          for (size_t i = 0; i < kept.size(); ++i) A.row(static_cast<int>(i)) = kept[i].p.transpose();
+          std::vector<SurfacePoint> pts = surfaceSpline(query, A, s.closed, spacing);
+          for (const SurfacePoint& q : pts) prior.push_back(q.position(garment));
+          zeros.push_back(std::move(pts));
+        }
+      }
+      // Sign points, with paired removal (§6.1.2).
+      std::vector<ProjectedPoint> q;
+      for (const SignPoint& s : f->signs) q.push_back(projector.project(s.point));
+      for (size_t i = 0; i < f->signs.size(); ++i) {
+        const SignPoint& s = f->signs[i];
+        ++seam.signs;
+        const bool partnerOk = s.pair < 0 || q[s.pair].ok();
+        if (!q[i].ok() || !partnerOk) {
+          ++seam.droppedSigns;
+          if (q[i].ok()) ++seam.pairedDrops;
+          continue;
+        }
+        signs.push_back({q[i].point, s.value});
+      }
+    }
+    if (kind_ == SeamKind::Armhole && !zeros.empty())
+      for (const Opening& o : openings)
+        if (o.name == "neckline" || o.name == "hem")
+          addOpeningConstraints(topo, garment, o, options.boundaryConstraintSpacing, +1.0, signs);
+    seam.prior.resize(static_cast<int>(prior.size()), 3);
+    for (size_t i = 0; i < prior.size(); ++i) seam.prior.row(static_cast<int>(i)) = prior[i].transpose();
+
+    int pos = 0, neg = 0;
+    for (const ValueConstraint& c : signs) (c.value > 0 ? pos : neg)++;
+    if (zeros.empty()) {
+      seam.removedWhy = fmt::format("every spline removed ({} of {} anchors ill-projected)",
+                                    seam.droppedAnchors, seam.anchors);
+    } else if (pos == 0 || neg == 0) {
+      seam.removedWhy = fmt::format("sign points of one sign only survived ({} positive, {} "
+                                    "negative)",
+                                    pos, neg);
+    } else {
+      try {
+        if (!optimizer) optimizer = std::make_unique<BoundaryOptimizer>(garment, bopt);
+        const Eigen::VectorXd phi0 = optimizer->initialImplicit(zeros, signs);
+        BoundaryResult r = optimizer->iterate(phi0, signs, noDisplacement);
+        if (r.vanished) {
+          seam.removedWhy = "its zero set vanished under the length regularisation";
+        } else {
+          seam.phi = std::move(r.phi);
+          seam.islandsRemoved = removeIslands(garment, seam.phi, options.minIslandArea, signs);
+          seam.line = extractIsoline(garment, topo, seam.phi);
+          seam.kept = !seam.line.curves.empty();
+          if (!seam.kept) seam.removedWhy = "its implicit function has no zero isoline on the garment";
+        }
+      } catch (const InputError& e) {
+        seam.removedWhy = std::string("no seam line: ") + e.what();
+      }
+    }
+    if (!seam.kept) seam.phi.resize(0);
+    seam.seconds = secondsSince(t0);
+    out.push_back(std::move(seam));
+  }
+  return out;
+}
+
+}  // namespace s2p

@@ -1,0 +1,94 @@
+// Seam line estimation on one cut garment (paper §6.1): the body's predefined seam splines and
+// paired sign points (body/features.h: upper_side, shoulder, lower_side, crotch) projected onto
+// the garment from the fully fitted body as §5.1.2 projects the boundary features, with
+// Appendix B's ill-projection tests, paired removal (§6.1.2: when one sign point of a pair goes,
+// its partner goes too) and removal of a spline — and of a seam whose splines all go — when
+// fewer than 3 of its anchors survive. Each surviving seam becomes an implicit function (the
+// biharmonic of Eq. 1 with zero on the spline and the sign values, turned into a signed
+// distance), is length-regularised (Eq. 4) and its zero isoline is the seam line.
+//
+// The removal is what tells a skirt (no crotch seam: its anchors between the legs see the legs,
+// rule 2) from trousers, and a sleeveless top (no armhole seam) from a sleeved one.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "body/features.h"
+#include "core/tri_mesh.h"
+#include "pattern/body_frame.h"
+#include "segment/boundary_optimizer.h"
+#include "segment/isoline.h"
+#include "segment/projection.h"
+
+namespace s2p {
+
+// The three seam functions a garment can carry; their signs name the panels.
+enum class SeamKind {
+  FrontBack,  // > 0 on the front: upper_side (tops), lower_side (bottoms), both (one-piece)
+  Armhole,    // > 0 on the trunk, < 0 on the sleeves: shoulder
+  LeftRight   // > 0 on the body's left: crotch (hip-to-belly)
+};
+const char* toString(SeamKind kind);
+
+enum class GarmentKind { Upper, Lower, OnePiece };
+const char* toString(GarmentKind kind);
+
+struct SeamOptions {
+  ProjectionOptions projection;  // bodyLength is set from the body's height
+  // β of Eq. (4) as in the segmentation (m², √β = 5 mm); α is unused: seams have no
+  // displacement (§6.1: no region points, no boundary optimisation).
+  BoundaryOptions boundary;
+  int regularisationSteps = 3;  // backward Euler steps of Eq. (4) on the seam's signed distance
+  int minAnchors = 3;           // §6.1.2: a spline with fewer surviving anchors is removed
+  double splineSpacing = 0.005;  // m between zero constraints along a spline
+  // The armhole seam's extra constraints (§6.1.2): boundary points about this far apart (m).
+  double boundaryConstraintSpacing = 0.02;
+  double minIslandArea = 0.004;  // m²: sign regions smaller than this without a sign point flip
+};
+
+// A garment opening: one boundary loop of the cut garment, named by where it lies on the body.
+struct Opening {
+  std::string name;   // "neckline", "hem", "left_cuff", "left_armhole", "waistband",
+                      // "left_leg_opening"
+  Limb limb = Limb::Torso;
+  double t = 0;       // place along the limb (0 root, 1 end): how long a sleeve or leg is
+  std::vector<int> vertices;  // the garment's boundary loop (vertex ids)
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double length = 0;  // m
+};
+
+// Names every boundary loop of `garment` (topology's loops, in order).
+std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology& topology,
+                                      GarmentKind kind, const BodyFrame& frame);
+
+struct SeamLine {
+  SeamKind kind = SeamKind::FrontBack;
+  std::string name;                   // "side", "armhole", "crotch"
+  std::vector<std::string> features;  // the body's seam features it comes from
+  bool kept = false;
+  std::string removedWhy;  // when not kept
+  int anchors = 0, droppedAnchors = 0;  // projected / ill-projected spline anchors
+  int signs = 0, droppedSigns = 0;      // of which dropped by the tests or with their pair
+  int pairedDrops = 0;                  // sign points dropped only because their partner was
+  std::vector<std::string> splinesKept, splinesRemoved;
+  // Where the zero constraints lie on the garment (spline samples, or the anchors for the
+  // armhole), #P×3: the seam's prior position.
+  Eigen::MatrixX3d prior;
+  Eigen::VectorXd phi;  // #V of the garment, signed distance (m); empty when not kept
+  Isoline line;         // zero isoline of phi
+  int islandsRemoved = 0;
+  double seconds = 0;
+};
+
+// The seams of one garment (mesh in the body's frame, consistently oriented), in the order they
+// are applied: FrontBack, Armhole, LeftRight (those that do not apply to the kind are absent).
+// body: the posed fully fitted body carrying `features`. Throws InputError for an empty garment
+// or a body that does not overlap it.
+std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
+                                    const FeatureSet& features,
+                                    const std::vector<Opening>& openings,
+                                    const SeamOptions& options = {});
+
+}  // namespace s2p

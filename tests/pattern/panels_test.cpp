@@ -1,0 +1,327 @@
+// Panels from seam lines on meshes built here, with known answers: tubes split by seams into
+// disks of known area, a sleeve opened along its underarm, the fallback cut, seam removal and
+// paired sign-point removal, and the documented errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/mesh_query.h"
+#include "core/mesh_topology.h"
+#include "core/shapes.h"
+#include "pattern/panels.h"
+#include "segment/isoline.h"
+
+namespace s2p {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+// A skeleton standing at the origin: pelvis at y = 0, neck at 0.5, arms along ±x at 0.45,
+// legs down. Facing +z (front = left × up), left = +x.
+Eigen::MatrixX3d skeleton() {
+  Eigen::MatrixX3d C = Eigen::MatrixX3d::Zero(kNumCanonical, 3);
+  auto set = [&](Canonical c, double x, double y, double z) {
+    C.row(static_cast<int>(c)) << x, y, z;
+  };
+  using K = Canonical;
+  set(K::Pelvis, 0, 0, 0);
+  set(K::Spine, 0, 0.2, 0);
+  set(K::Chest, 0, 0.35, 0);
+  set(K::Neck, 0, 0.5, 0);
+  set(K::Head, 0, 0.65, 0);
+  set(K::HeadTop, 0, 0.75, 0);
+  set(K::Nose, 0, 0.65, 0.1);
+  for (double s : {1.0, -1.0}) {
+    const bool l = s > 0;
+    set(l ? K::LeftClavicle : K::RightClavicle, 0.05 * s, 0.45, 0);
+    set(l ? K::LeftShoulder : K::RightShoulder, 0.2 * s, 0.45, 0);
+    set(l ? K::LeftElbow : K::RightElbow, 0.45 * s, 0.45, 0);
+    set(l ? K::LeftWrist : K::RightWrist, 0.7 * s, 0.45, 0);
+    set(l ? K::LeftHandTip : K::RightHandTip, 0.85 * s, 0.45, 0);
+    set(l ? K::LeftHip : K::RightHip, 0.1 * s, -0.05, 0);
+    set(l ? K::LeftKnee : K::RightKnee, 0.1 * s, -0.5, 0);
+    set(l ? K::LeftAnkle : K::RightAnkle, 0.1 * s, -0.9, 0);
+    set(l ? K::LeftHeel : K::RightHeel, 0.1 * s, -0.95, -0.05);
+    set(l ? K::LeftToeTip : K::RightToeTip, 0.1 * s, -0.95, 0.15);
+  }
+  return C;
+}
+
+// A tube around the torso axis: y ∈ [0.05, 0.35], radius 0.15.
+TriMesh torsoTube(int rings = 24, int segments = 64) {
+  TriMesh m = makeCylinder(rings, segments, 0.15, 0.3);
+  m.V.col(1).array() += 0.05;
+  return m;
+}
+
+// A tube along the left arm: x ∈ [0.15, 0.6] at height 0.45, radius 0.06.
+TriMesh armTube() {
+  TriMesh m = makeCylinder(30, 48, 0.06, 0.45);
+  for (int v = 0; v < m.numVertices(); ++v) {
+    const Vec3 p = m.V.row(v);
+    // y → x (keep the orientation: a rotation about z by −90°).
+    m.V.row(v) << p.y() + 0.15, 0.45 - p.x(), p.z();
+  }
+  return m;
+}
+
+SeamLine seam(SeamKind kind, const Eigen::VectorXd& phi, const TriMesh& m) {
+  SeamLine s;
+  s.kind = kind;
+  s.name = toString(kind);
+  s.kept = true;
+  s.phi = phi;
+  s.line = extractIsoline(m, phi);
+  return s;
+}
+
+PanelsInput inputFor(const TriMesh& garment, GarmentKind kind) {
+  PanelsInput in;
+  in.garments.push_back({"upper", kind, garment,
+                         Eigen::VectorXi::LinSpaced(garment.numFaces(), 0, garment.numFaces() - 1)});
+  in.body = makeIcosphere(2, 0.05);  // only the fallback cut's visibility looks at it
+  in.canonical = skeleton();
+  return in;
+}
+
+bool isDisk(const TriMesh& m) {
+  const MeshTopology t(m.F, m.numVertices());
+  return t.boundaryLoops().size() == 1 && t.eulerCharacteristic() == 1;
+}
+
+int countOpenings(const Panel& p) {
+  int n = 0;
+  for (const PanelEdge& e : p.edges) n += e.opening;
+  return n;
+}
+
+const Panel* findPanel(const PanelsResult& r, const std::string& name) {
+  for (const Panel& p : r.panels)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+// Every seam edge has exactly one partner, the partner's partner is itself, and the two have
+// the same 3D length (one curve cut once).
+void expectPartnersConsistent(const PanelsResult& r) {
+  for (size_t p = 0; p < r.panels.size(); ++p)
+    for (size_t e = 0; e < r.panels[p].edges.size(); ++e) {
+      const PanelEdge& edge = r.panels[p].edges[e];
+      if (edge.opening) continue;
+      ASSERT_GE(edge.partnerPanel, 0) << r.panels[p].name << " edge " << edge.name;
+      ASSERT_GE(edge.partnerEdge, 0) << r.panels[p].name << " edge " << edge.name;
+      const PanelEdge& twin = r.panels[edge.partnerPanel].edges[edge.partnerEdge];
+      EXPECT_EQ(twin.partnerPanel, static_cast<int>(p));
+      EXPECT_EQ(twin.partnerEdge, static_cast<int>(e));
+      EXPECT_NEAR(twin.length, edge.length, 1e-9 * edge.length);
+      EXPECT_EQ(twin.vertices.size(), edge.vertices.size());
+    }
+}
+
+TEST(Panels, TubeWithTwoOppositeSeamsGivesTwoEqualDisks) {
+  const TriMesh tube = torsoTube();
+  const PanelsInput in = inputFor(tube, GarmentKind::Upper);
+  // φ = z: the seam lines run down both sides (x = ±r); front is z > 0.
+  const Eigen::VectorXd phi = tube.V.col(2);
+  PanelsResult r;
+  panelizeGarment(in, 0, {seam(SeamKind::FrontBack, phi, tube)}, {}, r);
+  ASSERT_EQ(r.panels.size(), 2u);
+  const Panel* front = findPanel(r, "front");
+  const Panel* back = findPanel(r, "back");
+  ASSERT_TRUE(front && back);
+  EXPECT_TRUE(isDisk(front->mesh));
+  EXPECT_TRUE(isDisk(back->mesh));
+  EXPECT_NEAR(front->area, back->area, 1e-9);
+  EXPECT_NEAR(front->area + back->area, surfaceArea(tube), 1e-9);
+  for (const Panel* p : {front, back}) {
+    ASSERT_EQ(p->edges.size(), 4u) << p->name;
+    EXPECT_EQ(countOpenings(*p), 2) << p->name;
+    for (const PanelEdge& e : p->edges)
+      if (!e.opening) {
+        EXPECT_TRUE(e.name == "left_side" || e.name == "right_side") << e.name;
+        EXPECT_NEAR(e.length, 0.3, 1e-9);  // straight down the side
+      } else {
+        EXPECT_TRUE(e.name == "hem" || e.name == "neckline") << e.name;
+      }
+  }
+  expectPartnersConsistent(r);
+  ASSERT_EQ(r.garments.size(), 1u);
+  EXPECT_EQ(r.garments[0].type, "sleeveless_top");
+}
+
+TEST(Panels, SleeveOpensAlongTheSeamChainNearestTheUnderarmSpline) {
+  const TriMesh arm = armTube();
+  const PanelsInput in = inputFor(arm, GarmentKind::Upper);
+  // Armhole at x = 0.25 (trunk for x < 0.25), front/back by z; the underarm prior along the
+  // bottom of the arm (y = 0.39).
+  const Eigen::VectorXd armhole = 0.25 - arm.V.col(0).array();
+  SeamLine fb = seam(SeamKind::FrontBack, arm.V.col(2), arm);
+  fb.prior.resize(10, 3);
+  for (int i = 0; i < 10; ++i) fb.prior.row(i) << 0.2 + 0.04 * i, 0.39, 0;
+  PanelsResult r;
+  panelizeGarment(in, 0, {fb, seam(SeamKind::Armhole, armhole, arm)}, {}, r);
+  const Panel* sleeve = findPanel(r, "left_sleeve");
+  ASSERT_TRUE(sleeve);
+  EXPECT_TRUE(isDisk(sleeve->mesh));
+  EXPECT_FALSE(sleeve->cutOpen);
+  int underarm = 0, armholes = 0, cuffs = 0;
+  for (const PanelEdge& e : sleeve->edges) {
+    if (e.name == "left_underarm") {
+      ++underarm;
+      EXPECT_EQ(&r.panels[e.partnerPanel], sleeve);
+      EXPECT_NEAR(e.length, 0.6 - 0.25, 1e-6);
+      // Along the bottom of the arm, where the prior is.
+      for (int v : e.vertices) EXPECT_NEAR(sleeve->mesh.V(v, 1), 0.39, 1e-6);
+    }
+    armholes += e.name == "left_armhole";
+    cuffs += e.name == "left_cuff";
+  }
+  EXPECT_EQ(underarm, 2);
+  EXPECT_EQ(armholes, 2);  // one with the front, one with the back
+  EXPECT_EQ(cuffs, 1);
+  EXPECT_TRUE(findPanel(r, "front") && findPanel(r, "back"));
+  for (const Panel& p : r.panels) EXPECT_TRUE(isDisk(p.mesh)) << p.name;
+  expectPartnersConsistent(r);
+  EXPECT_EQ(r.garments[0].type, "long_sleeve_shirt");  // the cuff at 0.8 of the arm
+}
+
+TEST(Panels, TubesWithoutASideSeamAreCutOpenOnTheirLeastVisibleSide) {
+  const TriMesh arm = armTube();
+  const PanelsInput in = inputFor(arm, GarmentKind::Upper);
+  const Eigen::VectorXd armhole = 0.25 - arm.V.col(0).array();
+  PanelsResult r;
+  panelizeGarment(in, 0, {seam(SeamKind::Armhole, armhole, arm)}, {}, r);
+  ASSERT_EQ(r.panels.size(), 2u);
+  for (const Panel& p : r.panels) {
+    EXPECT_TRUE(isDisk(p.mesh)) << p.name;
+    EXPECT_TRUE(p.cutOpen) << p.name;
+    int cuts = 0;
+    for (const PanelEdge& e : p.edges) cuts += e.name == "cut";
+    EXPECT_EQ(cuts, 2) << p.name;
+  }
+  expectPartnersConsistent(r);
+  EXPECT_FALSE(r.garments[0].notes.empty());
+}
+
+TEST(Panels, AGarmentWithoutSeamsMustBeADisk) {
+  const TriMesh tube = torsoTube();
+  PanelsResult r;
+  EXPECT_THROW(panelizeGarment(inputFor(tube, GarmentKind::Upper), 0, {}, {}, r), TopologyError);
+  const TriMesh sheet = makeGrid(10, 10, 0.3, 0.3);
+  PanelsResult r2;
+  panelizeGarment(inputFor(sheet, GarmentKind::Upper), 0, {}, {}, r2);
+  ASSERT_EQ(r2.panels.size(), 1u);
+  EXPECT_FALSE(r2.warnings.empty());
+  EXPECT_TRUE(isDisk(r2.panels[0].mesh));
+}
+
+TEST(Panels, BadGarmentsGiveTheirDocumentedErrors) {
+  PanelsResult r;
+  TriMesh empty;
+  empty.V.resize(0, 3);
+  empty.F.resize(0, 3);
+  EXPECT_THROW(panelizeGarment(inputFor(empty, GarmentKind::Upper), 0, {}, {}, r), InputError);
+  // Three triangles on one edge: non-manifold.
+  TriMesh fin;
+  fin.V.resize(5, 3);
+  fin.V << 0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -1, 0, 0.5, 0, 1;
+  fin.F.resize(3, 3);
+  fin.F << 0, 1, 2, 1, 0, 3, 0, 1, 4;
+  EXPECT_THROW(panelizeGarment(inputFor(fin, GarmentKind::Upper), 0, {}, {}, r), TopologyError);
+}
+
+// === Seam projection (§6.1.2) on a garment tube around a body tube.
+
+struct SeamScene {
+  TriMesh body = makeCylinder(40, 48, 0.10, 1.0);  // y ∈ [0, 1]
+  TriMesh garment = makeCylinder(20, 48, 0.13, 0.5);  // covers y ∈ [0, 0.5] only
+  SurfacePoint on(const Vec3& p) const {
+    const MeshQuery q(body);
+    const ClosestHit h = q.closestPoint(p);
+    return {h.face, h.bary};
+  }
+};
+
+TEST(SeamLines, ASplineWithTwoSurvivingAnchorsIsRemovedWithItsSeam) {
+  const SeamScene sc;
+  FeatureSet fs;
+  CurveFeatures side{"upper_side", {}, {}};
+  FeatureSpline s{"left_upper_side", {}, false};
+  for (double y : {0.1, 0.2, 0.7, 0.8}) s.anchors.push_back(sc.on({0.1, y, 0}));
+  side.splines.push_back(s);
+  side.signs.push_back({"f", sc.on({0, 0.25, 0.1}), +1, 1});
+  side.signs.push_back({"b", sc.on({0, 0.25, -0.1}), -1, 0});
+  fs.seams = {side, {"shoulder", {}, {}}};
+  const BodyFrame frame(skeleton());
+  const MeshTopology topo(sc.garment.F, sc.garment.numVertices());
+  const auto openings = classifyOpenings(sc.garment, topo, GarmentKind::Upper, frame);
+  const std::vector<SeamLine> seams =
+      estimateSeams(sc.garment, GarmentKind::Upper, sc.body, fs, openings);
+  ASSERT_EQ(seams.size(), 2u);
+  EXPECT_EQ(seams[0].kind, SeamKind::FrontBack);
+  EXPECT_FALSE(seams[0].kept);
+  EXPECT_EQ(seams[0].anchors, 4);
+  EXPECT_EQ(seams[0].droppedAnchors, 2);
+  EXPECT_EQ(seams[0].splinesRemoved.size(), 1u);
+  EXPECT_FALSE(seams[1].kept);  // no shoulder splines at all
+}
+
+TEST(SeamLines, PairedSignPointsAreRemovedTogether) {
+  const SeamScene sc;
+  FeatureSet fs;
+  CurveFeatures side{"upper_side", {}, {}};
+  for (double x : {0.1, -0.1}) {
+    FeatureSpline s{x > 0 ? "left_upper_side" : "right_upper_side", {}, false};
+    for (double y : {0.05, 0.15, 0.25, 0.35, 0.45}) s.anchors.push_back(sc.on({x, y, 0}));
+    side.splines.push_back(s);
+  }
+  // Pair 0: both covered. Pair 1: the front point lies above the garment (ill-projected), so
+  // its covered back partner must go too.
+  side.signs.push_back({"f1", sc.on({0, 0.25, 0.1}), +1, 1});
+  side.signs.push_back({"b1", sc.on({0, 0.25, -0.1}), -1, 0});
+  side.signs.push_back({"f2", sc.on({0, 0.8, 0.1}), +1, 3});
+  side.signs.push_back({"b2", sc.on({0, 0.3, -0.1}), -1, 2});
+  fs.seams = {side, {"shoulder", {}, {}}};
+  const BodyFrame frame(skeleton());
+  const MeshTopology topo(sc.garment.F, sc.garment.numVertices());
+  const auto openings = classifyOpenings(sc.garment, topo, GarmentKind::Upper, frame);
+  const std::vector<SeamLine> seams =
+      estimateSeams(sc.garment, GarmentKind::Upper, sc.body, fs, openings);
+  const SeamLine& s = seams[0];
+  ASSERT_TRUE(s.kept) << s.removedWhy;
+  EXPECT_EQ(s.signs, 4);
+  EXPECT_EQ(s.droppedSigns, 2);
+  EXPECT_EQ(s.pairedDrops, 1);
+  EXPECT_EQ(s.droppedAnchors, 0);
+  // The seam lines run down both sides: φ > 0 at the front, < 0 at the back, ≈ 0 at x = ±r.
+  const MeshQuery q(sc.garment);
+  const auto at = [&](const Vec3& p) {
+    const ClosestHit h = q.closestPoint(p);
+    return SurfacePoint{h.face, h.bary}.interpolate(sc.garment.F, s.phi);
+  };
+  EXPECT_GT(at({0, 0.25, 0.13}), 0.05);
+  EXPECT_LT(at({0, 0.25, -0.13}), -0.05);
+  EXPECT_NEAR(at({0.13, 0.25, 0}), 0, 0.01);
+  EXPECT_NEAR(at({-0.13, 0.25, 0}), 0, 0.01);
+}
+
+TEST(Openings, NamedByWhereTheyLieOnTheBody) {
+  const BodyFrame frame(skeleton());
+  const TriMesh tube = torsoTube();
+  const MeshTopology t(tube.F, tube.numVertices());
+  const auto upper = classifyOpenings(tube, t, GarmentKind::Upper, frame);
+  ASSERT_EQ(upper.size(), 2u);
+  std::vector<std::string> names = {upper[0].name, upper[1].name};
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"hem", "neckline"}));
+  const TriMesh arm = armTube();
+  const MeshTopology ta(arm.F, arm.numVertices());
+  const auto sleeve = classifyOpenings(arm, ta, GarmentKind::Upper, frame);
+  names = {sleeve[0].name, sleeve[1].name};
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"left_armhole", "left_cuff"}));
+}
+
+}  // namespace
+}  // namespace s2p
