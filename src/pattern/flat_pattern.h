@@ -1,0 +1,75 @@
+// Patterns II (paper §6.2): every panel of Patterns I flattened (Boundary First Flattening with
+// u = 0, then the warp/weft refinement: flatten.h), its edges between the corners fitted with
+// cubic Bézier chains (bezier_outline.h), and remeshed with CGAL's constrained Delaunay mesher
+// (remesh.h) from the Béziers resampled so that two stitched edges get the same number of
+// vertices; every new vertex located in the flattened panel so that the 3D shape and the scan's
+// colours travel with the pattern.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/surface_point.h"
+#include "pattern/bezier_outline.h"
+#include "pattern/body_frame.h"
+#include "pattern/flatten.h"
+#include "pattern/flatten_metrics.h"
+#include "pattern/panels.h"
+#include "pattern/remesh.h"
+
+namespace s2p {
+
+struct FlatPatternOptions {
+  FlattenOptions flatten;
+  BezierFitOptions bezier;  // 1 mm by default
+  RemeshOptions remesh;     // 10 mm target edge, ≥ 20.7°
+};
+
+struct FlatEdge {
+  BezierChain chain;          // in the panel's 2D frame (metres)
+  double length2d = 0;        // of the flattened boundary polyline (m)
+  double fitError = 0;        // max distance between the chain and that polyline (m)
+  std::vector<int> vertices;  // remeshed vertex ids along the edge, corner to corner
+};
+
+struct FlatPanel {
+  int panel = -1;  // index into PanelsResult::panels
+  Eigen::Vector3d grain = Eigen::Vector3d::UnitY();  // the 3D direction that maps to +y
+  Eigen::MatrixX2d uv;                               // #V of the 3D panel × 2, metres
+  PanelFlattening flattening;
+  FlatteningMetrics metrics;  // of uv against the 3D panel
+  std::vector<FlatEdge> edges;  // as Panel::edges
+  RemeshedPanel remeshed;
+  Eigen::MatrixX3d position;            // #V of the remeshed panel × 3: its point on the 3D panel
+  std::vector<SurfacePoint> location;   // #V of the remeshed panel: where in the 3D panel
+  Eigen::VectorXi scanFace;             // #V of the remeshed panel: the scan face it lies in
+  Eigen::MatrixX3d scanBary;            // #V × 3: its barycentric weights in that scan face
+  double seconds = 0;
+  std::string error;  // non-empty: this panel could not be flattened (the others still are)
+};
+
+// One pair of partner seam edges.
+struct SeamPair {
+  int panelA = -1, edgeA = -1, panelB = -1, edgeB = -1;  // indices into PanelsResult
+  double lengthA = 0, lengthB = 0;                       // 2D lengths (m)
+  int samples = 0;                                       // vertices on each after remeshing
+};
+
+struct FlatPatternResult {
+  std::vector<FlatPanel> panels;  // one per Patterns I panel, same order
+  std::vector<SeamPair> seams;
+  std::vector<std::string> warnings;
+  double seconds = 0;
+};
+
+// The grain of a panel: along the arm (wrist → shoulder) for sleeves, the body's up otherwise.
+Eigen::Vector3d panelGrain(const Panel& panel, const BodyFrame& frame);
+
+// Flattens, outlines and remeshes every panel. scan: the scan mesh the panels' faceOrigin refer
+// to (for the scan face and weights of each new vertex). A panel that fails gets an error
+// naming it; the others are still done.
+FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan,
+                                 const BodyFrame& frame, const FlatPatternOptions& options = {});
+
+}  // namespace s2p
