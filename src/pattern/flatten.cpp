@@ -10,7 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
-#include <unordered_set>
 
 #include "core/error.h"
 #include "core/laplacian.h"
@@ -52,6 +51,17 @@ Eigen::MatrixX3d cornerAngles(const TriMesh& mesh) {
 // |a|δa² + |b|δb², exact to second order).
 Eigen::Matrix2d warpWeftTarget(const Eigen::Matrix2d& J, double maxShear) {
   const double la = J.col(0).norm(), lb = J.col(1).norm();
+  // Common case, no trigonometry: both columns non-zero, counter-clockwise and within the
+  // shear range, |cos θ| ≤ sin(maxShear).
+  if (la > 0.0 && lb > 0.0) {
+    const Eigen::Vector2d a = J.col(0) / la, b = J.col(1) / lb;
+    const double cross = a.x() * b.y() - a.y() * b.x();
+    if (cross > 0.0 && std::abs(a.dot(b)) <= std::sin(maxShear)) {
+      Eigen::Matrix2d T;
+      T << a, b;
+      return T;
+    }
+  }
   double alphaA = la > 0.0 ? std::atan2(J(1, 0), J(0, 0)) : 0.5 * kPi;
   double alphaB = lb > 0.0 ? std::atan2(J(1, 1), J(0, 1)) : alphaA + 0.5 * kPi;
   if (la == 0.0 && lb > 0.0) alphaA = alphaB - 0.5 * kPi;
@@ -59,15 +69,11 @@ Eigen::Matrix2d warpWeftTarget(const Eigen::Matrix2d& J, double maxShear) {
   while (theta > kPi) theta -= 2.0 * kPi;
   while (theta <= -kPi) theta += 2.0 * kPi;
   const double lo = 0.5 * kPi - maxShear, hi = 0.5 * kPi + maxShear;
-  if (theta < lo || theta > hi) {
-    const double clamped = std::clamp(theta, lo, hi);
-    const double delta = clamped - theta;  // the angle must open by delta
-    const double wa = la + lb > 0.0 ? lb / (la + lb) : 0.5;
-    alphaA -= delta * wa;
-    alphaB = alphaA + clamped;
-  } else {
-    alphaB = alphaA + theta;
-  }
+  const double clamped = std::clamp(theta, lo, hi);
+  const double delta = clamped - theta;  // the angle must open by delta
+  const double wa = la + lb > 0.0 ? lb / (la + lb) : 0.5;
+  alphaA -= delta * wa;
+  alphaB = alphaA + clamped;
   Eigen::Matrix2d T;
   T << std::cos(alphaA), std::cos(alphaB), std::sin(alphaA), std::sin(alphaB);
   return T;
@@ -86,10 +92,11 @@ double signedArea2d(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& F, int f
   return 0.5 * (b.x() * c.y() - b.y() * c.x());
 }
 
-bool hasInvertedFace(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& F) {
+int invertedFaceCount(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& F) {
+  int count = 0;
   for (int f = 0; f < F.rows(); ++f)
-    if (!(signedArea2d(uv, F, f) > 0.0)) return true;
-  return false;
+    if (!(signedArea2d(uv, F, f) > 0.0)) ++count;
+  return count;
 }
 
 }  // namespace
@@ -119,19 +126,6 @@ std::vector<int> checkFlattenablePanel(const TriMesh& panel, const std::string& 
       throw InputError(fmt::format(
           "{}: vertex {} is used by no face; drop unreferenced vertices before flattening", what,
           v));
-  // Consistent orientation: every directed edge at most once.
-  std::unordered_set<long long> directed;
-  directed.reserve(3 * static_cast<size_t>(nF));
-  for (int f = 0; f < nF; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const long long a = panel.F(f, k), b = panel.F(f, (k + 1) % 3);
-      if (a == b) throw InputError(fmt::format("{}: face {} uses vertex {} twice", what, f, a));
-      if (!directed.insert(a * nV + b).second)
-        throw TopologyError(fmt::format(
-            "{}: edge ({}, {}) is traversed in the same direction by two faces (face {} and an "
-            "earlier one): the faces are not consistently oriented or the edge is non-manifold",
-            what, a, b, f));
-    }
   const MeshTopology topology(panel.F, nV);
   const ManifoldReport& manifold = topology.manifoldness();
   if (!manifold.isManifold())
@@ -142,6 +136,21 @@ std::vector<int> checkFlattenablePanel(const TriMesh& panel, const std::string& 
         manifold.nonManifoldVertices.empty()
             ? std::string()
             : fmt::format(", e.g. vertex {}", manifold.nonManifoldVertices.front())));
+  // Consistent orientation: each edge traversed at most once in each direction.
+  std::vector<unsigned char> seen(topology.numEdges(), 0);  // bit 0: low→high, bit 1: high→low
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = panel.F(f, (k + 1) % 3), b = panel.F(f, (k + 2) % 3);
+      if (a == b) throw InputError(fmt::format("{}: face {} uses vertex {} twice", what, f, a));
+      const int e = topology.faceEdges()(f, k);
+      const unsigned char bit = a < b ? 1 : 2;
+      if (seen[e] & bit)
+        throw TopologyError(fmt::format(
+            "{}: edge ({}, {}) is traversed in the same direction by two faces (face {} and an "
+            "earlier one): the faces are not consistently oriented; reorient them",
+            what, a, b, f));
+      seen[e] |= bit;
+    }
   if (topology.numComponents() != 1)
     throw TopologyError(
         fmt::format("{}: has {} separate pieces; flatten each piece as its own "
@@ -375,6 +384,7 @@ WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& g
   };
   double energy = 0.0;
   result.energyStart = localStep(energy);
+  int inverted = invertedFaceCount(result.uv, panel.F);
   result.energyEnd = result.energyStart;
   Eigen::MatrixX2d rhs(nV, 2);
   for (int iter = 0; iter < options.refineIterations; ++iter) {
@@ -399,18 +409,20 @@ WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& g
     for (int v = 0; v < nV; ++v)
       if (v != pinned) next.row(v) = x.row(reduced(v));
     ++result.iterations;
-    // A step that inverts a face is shortened (uv + t(next − uv), t = ½, ¼, ...); when no
-    // shortened step is flip-free the last flip-free iterate is kept.
-    bool flipped = hasInvertedFace(next, panel.F);
-    for (int halving = 0; flipped && halving < 6; ++halving) {
+    // A step that inverts more faces than the current iterate has (none, from a flip-free
+    // start) is shortened (uv + t(next − uv), t = ½, ¼, ...); when no shortened step will do,
+    // the current iterate is kept.
+    int nextInverted = invertedFaceCount(next, panel.F);
+    for (int halving = 0; nextInverted > inverted && halving < 6; ++halving) {
       next = 0.5 * (result.uv + next);
-      flipped = hasInvertedFace(next, panel.F);
+      nextInverted = invertedFaceCount(next, panel.F);
     }
-    if (flipped) {
+    if (nextInverted > inverted) {
       ++result.rejectedIterations;
       break;
     }
     result.uv = next;
+    inverted = nextInverted;
     J = grainJacobians(frames, panel.F, result.uv);
     double nextEnergy = 0.0;
     result.energyEnd = localStep(nextEnergy);
@@ -466,7 +478,7 @@ PanelFlattening flattenPanel(const TriMesh& panel, const Eigen::Vector3d& grain,
   out.energyBff = warpWeftEnergy(panel, grain, uv, options.maxShear);
   out.energy = out.energyBff;
   out.uvBff = options.alignGrain ? alignToGrain(panel, grain, uv) : uv;
-  if (options.refine && options.refineIterations > 0 && !hasInvertedFace(out.uvBff, panel.F)) {
+  if (options.refine && options.refineIterations > 0) {
     WarpWeftRefinement refined = refineWarpWeft(panel, grain, out.uvBff, options);
     out.energy = refined.energyEnd;
     out.iterations = refined.iterations;

@@ -28,10 +28,11 @@
 // unit weft step) have length 1 and make an angle within 90° ± maxShear. Local step: T_f per
 // face (closed form); global step: L uv = Σ_f A_f T_f ∇φ with L the 3D cotan Laplacian, one
 // vertex pinned, factored once. maxShear = 0 is ARAP (T_f a rotation); shear is what cloth
-// does cheaply, so it is allowed up to maxShear. Starts from BFF; an iterate with an inverted
-// face is never returned (the last flip-free one is). A third term keeps boundary edges at
-// their 3D lengths: Σ_e w_e ‖(q_j − q_i) − l_e d_e‖², d_e the edge's current direction (local
-// step), weighted by boundaryWeight (seam lengths matter to stitching).
+// does cheaply, so it is allowed up to maxShear. Starts from BFF; no step is taken that
+// inverts more faces than the current iterate has: a flip-free start stays flip-free, a start
+// with inverted faces (BFF on a very curved panel) can only lose them. A third term keeps boundary
+// edges at their 3D lengths: Σ_e w_e ‖(q_j − q_i) − l_e d_e‖², d_e the edge's current direction
+// (local step), weighted by boundaryWeight (seam lengths matter to stitching).
 #pragma once
 
 #include <Eigen/Core>
@@ -65,7 +66,7 @@ struct PanelFlattening {
   double energyBff = 0.0;           // warp/weft energy Σ A‖J − T‖² of uvBff (m²)
   double energy = 0.0;              // same for uv
   int iterations = 0;               // local/global iterations run
-  int rejectedIterations = 0;       // iterates discarded because they inverted a face
+  int rejectedIterations = 0;       // steps discarded because they inverted faces
   bool refinementReverted = false;  // the refined boundary overlapped itself: uv = uvBff
   double seconds = 0.0;             // wall time of flattenPanel
 };
@@ -96,11 +97,11 @@ struct WarpWeftRefinement {
   double energyStart = 0.0;    // warp/weft (area) energy of the start (m²)
   double energyEnd = 0.0;      // of uv (the boundary term is not included)
   int iterations = 0;          // local/global iterations run
-  int rejectedIterations = 0;  // iterates discarded because they inverted a face
+  int rejectedIterations = 0;  // steps discarded because they inverted faces
 };
 
-// Warp/weft local/global refinement (above) of a flip-free start uv0 (#V×2) of the checked
-// panel. options.refineIterations, tolerance and maxShear apply.
+// Warp/weft local/global refinement (above) of a start uv0 (#V×2, best flip-free) of the
+// checked panel. options.refineIterations, tolerance and maxShear apply.
 WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& grain,
                                   const Eigen::MatrixX2d& uv0, const FlattenOptions& options = {});
 
