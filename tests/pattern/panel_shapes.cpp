@@ -97,6 +97,26 @@ TriMesh makeSaddle(int n, double h, double c) {
   return mesh;
 }
 
+TriMesh makeTorsoPanel(int nx, int ny, double r0, double bulge, double h, double span,
+                       double jitter) {
+  TriMesh mesh = makeGrid(nx, ny, span, h);
+  const double dx = span / nx, dy = h / ny;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const int v = j * (nx + 1) + i;
+      double a = mesh.V(v, 0), y = mesh.V(v, 1);
+      if (i > 0 && i < nx && j > 0 && j < ny) {  // a fixed pseudo-random jitter
+        a += jitter * dx * std::sin(12.9898 * v + 78.233);
+        y += jitter * dy * std::sin(39.3468 * v + 11.135);
+      }
+      const double phi = a - 0.5 * span;
+      const double r = r0 + bulge * std::cos(2.0 * std::numbers::pi * y / h);
+      // Azimuth about +z, increasing towards +x: the grid's +x, +y map to +x-ish, +y; normal +z.
+      mesh.V.row(v) << r * std::sin(phi), y, r * std::cos(phi);
+    }
+  return mesh;
+}
+
 TriMesh rotated(const TriMesh& mesh, const Eigen::Matrix3d& R) {
   TriMesh out = mesh;
   out.V = mesh.V * R.transpose();

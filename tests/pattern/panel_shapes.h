@@ -30,6 +30,13 @@ TriMesh makeConeSector(int ns, int nphi, double alpha, double s0, double s1, dou
 // Saddle z = c·(x² − y²) over [−h, h]², n×n cells, normals towards +z (doubly curved, K < 0).
 TriMesh makeSaddle(int n, double h, double c);
 
+// Front of a torso-like surface of revolution around +y: radius r(y) = r0 + bulge·cos(2πy/h)
+// (waist and chest), azimuth ±span/2 about +z, y ∈ [0, h]; nx × ny cells whose parameter-space
+// vertices are jittered by `jitter` × the cell size (inner vertices only, deterministic).
+// Doubly curved with K of both signs, like a garment's front panel. Outward normals.
+TriMesh makeTorsoPanel(int nx, int ny, double r0, double bulge, double h, double span,
+                       double jitter);
+
 // Applies the rotation R to every vertex.
 TriMesh rotated(const TriMesh& mesh, const Eigen::Matrix3d& R);
 
