@@ -1,0 +1,502 @@
+#include "pattern/flatten.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/laplacian.h"
+#include "core/mesh_topology.h"
+#include "core/spd_solver.h"
+#include "pattern/flatten_metrics.h"
+#include "pattern/grain_frame.h"
+
+namespace s2p {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A face is degenerate when twice its area is below this fraction of its longest edge squared
+// (sin of its largest angle's supplement ~ 1e-12): numerically zero, not merely a sliver.
+constexpr double kDegenerateRatio = 1e-12;
+
+Eigen::Vector3d vertex(const TriMesh& mesh, int v) {
+  return mesh.V.row(v).transpose();
+}
+
+// Corner angles of every face, #F×3 (angle at corner k of face f), from the 3D triangles.
+Eigen::MatrixX3d cornerAngles(const TriMesh& mesh) {
+  Eigen::MatrixX3d angles(mesh.numFaces(), 3);
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d p = vertex(mesh, mesh.F(f, k));
+      const Eigen::Vector3d a = vertex(mesh, mesh.F(f, (k + 1) % 3)) - p;
+      const Eigen::Vector3d b = vertex(mesh, mesh.F(f, (k + 2) % 3)) - p;
+      angles(f, k) = std::atan2(a.cross(b).norm(), a.dot(b));
+    }
+  return angles;
+}
+
+// The closest matrix to J = [a b] (2×2, columns: images of unit warp and weft steps) whose
+// columns are unit vectors at a signed angle in [π/2 − maxShear, π/2 + maxShear] (counter-
+// clockwise from warp to weft). Each column is normalised; when the angle is out of range both
+// are turned towards the range, each by a share inverse to its length (the minimiser of
+// |a|δa² + |b|δb², exact to second order).
+Eigen::Matrix2d warpWeftTarget(const Eigen::Matrix2d& J, double maxShear) {
+  const double la = J.col(0).norm(), lb = J.col(1).norm();
+  // Common case, no trigonometry: both columns non-zero, counter-clockwise and within the
+  // shear range, |cos θ| ≤ sin(maxShear).
+  if (la > 0.0 && lb > 0.0) {
+    const Eigen::Vector2d a = J.col(0) / la, b = J.col(1) / lb;
+    const double cross = a.x() * b.y() - a.y() * b.x();
+    if (cross > 0.0 && std::abs(a.dot(b)) <= std::sin(maxShear)) {
+      Eigen::Matrix2d T;
+      T << a, b;
+      return T;
+    }
+  }
+  double alphaA = la > 0.0 ? std::atan2(J(1, 0), J(0, 0)) : 0.5 * kPi;
+  double alphaB = lb > 0.0 ? std::atan2(J(1, 1), J(0, 1)) : alphaA + 0.5 * kPi;
+  if (la == 0.0 && lb > 0.0) alphaA = alphaB - 0.5 * kPi;
+  double theta = alphaB - alphaA;  // signed angle warp → weft in (−π, π]
+  while (theta > kPi) theta -= 2.0 * kPi;
+  while (theta <= -kPi) theta += 2.0 * kPi;
+  const double lo = 0.5 * kPi - maxShear, hi = 0.5 * kPi + maxShear;
+  const double clamped = std::clamp(theta, lo, hi);
+  const double delta = clamped - theta;  // the angle must open by delta
+  const double wa = la + lb > 0.0 ? lb / (la + lb) : 0.5;
+  alphaA -= delta * wa;
+  alphaB = alphaA + clamped;
+  Eigen::Matrix2d T;
+  T << std::cos(alphaA), std::cos(alphaB), std::sin(alphaA), std::sin(alphaB);
+  return T;
+}
+
+Eigen::Matrix2d jacobianOf(const Eigen::MatrixX4d& J, int f) {
+  Eigen::Matrix2d M;
+  M << J(f, 0), J(f, 2), J(f, 1), J(f, 3);
+  return M;
+}
+
+double signedArea2d(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& F, int f) {
+  const Eigen::Vector2d a = uv.row(F(f, 0)).transpose();
+  const Eigen::Vector2d b = uv.row(F(f, 1)).transpose() - a;
+  const Eigen::Vector2d c = uv.row(F(f, 2)).transpose() - a;
+  return 0.5 * (b.x() * c.y() - b.y() * c.x());
+}
+
+int invertedFaceCount(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& F) {
+  int count = 0;
+  for (int f = 0; f < F.rows(); ++f)
+    if (!(signedArea2d(uv, F, f) > 0.0)) ++count;
+  return count;
+}
+
+}  // namespace
+
+// === Input checks
+
+std::vector<int> checkFlattenablePanel(const TriMesh& panel, const std::string& name) {
+  const std::string what = fmt::format("panel '{}'", name);
+  validateMesh(panel, what);
+  const int nV = panel.numVertices(), nF = panel.numFaces();
+  std::vector<bool> used(nV, false);
+  for (int f = 0; f < nF; ++f) {
+    for (int k = 0; k < 3; ++k) used[panel.F(f, k)] = true;
+    const Eigen::Vector3d a = vertex(panel, panel.F(f, 0)), b = vertex(panel, panel.F(f, 1)),
+                          c = vertex(panel, panel.F(f, 2));
+    const double longest2 =
+        std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    const double doubleArea = (b - a).cross(c - a).norm();
+    if (!(doubleArea > kDegenerateRatio * longest2))
+      throw InputError(fmt::format(
+          "{}: face {} (vertices {}, {}, {}) has zero area; remove degenerate faces (collapse "
+          "its shortest edge) before flattening",
+          what, f, panel.F(f, 0), panel.F(f, 1), panel.F(f, 2)));
+  }
+  for (int v = 0; v < nV; ++v)
+    if (!used[v])
+      throw InputError(fmt::format(
+          "{}: vertex {} is used by no face; drop unreferenced vertices before flattening", what,
+          v));
+  const MeshTopology topology(panel.F, nV);
+  const ManifoldReport& manifold = topology.manifoldness();
+  if (!manifold.isManifold())
+    throw TopologyError(fmt::format(
+        "{}: not a manifold ({} non-manifold edges, {} non-manifold vertices{}); a panel must "
+        "be a topological disk",
+        what, manifold.nonManifoldEdges.size(), manifold.nonManifoldVertices.size(),
+        manifold.nonManifoldVertices.empty()
+            ? std::string()
+            : fmt::format(", e.g. vertex {}", manifold.nonManifoldVertices.front())));
+  // Consistent orientation: each edge traversed at most once in each direction.
+  std::vector<unsigned char> seen(topology.numEdges(), 0);  // bit 0: low→high, bit 1: high→low
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = panel.F(f, (k + 1) % 3), b = panel.F(f, (k + 2) % 3);
+      if (a == b) throw InputError(fmt::format("{}: face {} uses vertex {} twice", what, f, a));
+      const int e = topology.faceEdges()(f, k);
+      const unsigned char bit = a < b ? 1 : 2;
+      if (seen[e] & bit)
+        throw TopologyError(fmt::format(
+            "{}: edge ({}, {}) is traversed in the same direction by two faces (face {} and an "
+            "earlier one): the faces are not consistently oriented; reorient them",
+            what, a, b, f));
+      seen[e] |= bit;
+    }
+  if (topology.numComponents() != 1)
+    throw TopologyError(
+        fmt::format("{}: has {} separate pieces; flatten each piece as its own "
+                    "panel",
+                    what, topology.numComponents()));
+  const auto& loops = topology.boundaryLoops();
+  if (loops.empty())
+    throw TopologyError(fmt::format(
+        "{}: is closed (no boundary); cut it open along a seam into a disk before flattening",
+        what));
+  if (loops.size() != 1 || topology.eulerCharacteristic() != 1)
+    throw TopologyError(fmt::format(
+        "{}: is not a disk ({} boundary loops, Euler characteristic {}; a disk has 1 and 1): "
+        "cut it along a seam so that it has one boundary and no handles",
+        what, loops.size(), topology.eulerCharacteristic()));
+  return loops.front();
+}
+
+// === Boundary First Flattening, u = 0 on the boundary
+
+namespace {
+
+Eigen::MatrixX2d bffImpl(const TriMesh& panel, const std::vector<int>& loop,
+                         const std::string& name, Eigen::VectorXd* logScale) {
+  const int nV = panel.numVertices(), nF = panel.numFaces();
+  const int nB = static_cast<int>(loop.size()), nI = nV - nB;
+
+  // Step 1: curvatures. K_i = 2π − Σθ inside, k_i = π − Σθ on the boundary.
+  const Eigen::MatrixX3d angles = cornerAngles(panel);
+  Eigen::VectorXd angleSum = Eigen::VectorXd::Zero(nV);
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) angleSum(panel.F(f, k)) += angles(f, k);
+
+  std::vector<int> boundaryIndex(nV, -1), interiorIndex(nV, -1), interiorVertex;
+  interiorVertex.reserve(nI);
+  for (int i = 0; i < nB; ++i) boundaryIndex[loop[i]] = i;
+  for (int v = 0; v < nV; ++v)
+    if (boundaryIndex[v] < 0) {
+      interiorIndex[v] = static_cast<int>(interiorVertex.size());
+      interiorVertex.push_back(v);
+    }
+
+  Eigen::VectorXd kTilde(nB);  // target exterior angles
+  for (int i = 0; i < nB; ++i) kTilde(i) = kPi - angleSum(loop[i]);
+
+  // Step 2: Laplacian blocks.
+  const Eigen::SparseMatrix<double> L = cotanLaplacian(panel);
+  Eigen::SparseMatrix<double> Aii(nI, nI), Aib(nI, nB);
+  SpdSolver solver;
+  Eigen::VectorXd uInterior;
+  if (nI > 0) {
+    std::vector<Eigen::Triplet<double>> tii, tib;
+    tii.reserve(L.nonZeros());
+    tib.reserve(3 * static_cast<size_t>(nB));
+    for (int c = 0; c < L.outerSize(); ++c)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(L, c); it; ++it) {
+        const int r = static_cast<int>(it.row());
+        if (interiorIndex[r] < 0) continue;
+        if (interiorIndex[c] >= 0)
+          tii.emplace_back(interiorIndex[r], interiorIndex[c], it.value());
+        else
+          tib.emplace_back(interiorIndex[r], boundaryIndex[c], it.value());
+      }
+    Aii.setFromTriplets(tii.begin(), tii.end());
+    Aib.setFromTriplets(tib.begin(), tib.end());
+    try {
+      solver.compute(Aii);
+    } catch (const SolverError& e) {
+      throw SolverError(fmt::format("panel '{}': the interior Laplacian cannot be factored ({})",
+                                    name, e.what()));
+    }
+    // Step 3: Dirichlet-to-Neumann with u_B = 0: A_II u_I = −K_I, k̃ = k + A_IBᵀ u_I.
+    Eigen::VectorXd minusK(nI);
+    for (int i = 0; i < nI; ++i) minusK(i) = -(2.0 * kPi - angleSum(interiorVertex[i]));
+    uInterior = solver.solve(minusK);
+    kTilde += Aib.transpose() * uInterior;
+  }
+  if (logScale) {
+    logScale->setZero(nV);
+    for (int i = 0; i < nI; ++i) (*logScale)(interiorVertex[i]) = uInterior(i);
+  }
+
+  // Steps 4–5: boundary lengths kept (u = 0), tangents from k̃, closed by the projection.
+  Eigen::VectorXd length(nB);
+  for (int i = 0; i < nB; ++i)
+    length(i) = (vertex(panel, loop[(i + 1) % nB]) - vertex(panel, loop[i])).norm();
+  Eigen::Matrix2Xd T(2, nB);
+  double phi = 0.0;
+  for (int i = 0; i < nB; ++i) {
+    phi += kTilde(i);
+    T.col(i) = Eigen::Vector2d(std::cos(phi), std::sin(phi));
+  }
+  const Eigen::Matrix2d TNT = T * length.asDiagonal() * T.transpose();  // T N⁻¹ Tᵀ
+  const Eigen::Vector2d gap = T * length;                               // T l*
+  const Eigen::VectorXd closedLength =
+      length - length.asDiagonal() * (T.transpose() * TNT.ldlt().solve(gap));
+  for (int i = 0; i < nB; ++i)
+    if (!(closedLength(i) > 0.0))
+      throw SolverError(fmt::format(
+          "panel '{}': BFF could not close the boundary curve (boundary edge {} would get "
+          "length {:.3g} m); the panel is too curved or badly triangulated",
+          name, i, closedLength(i)));
+
+  Eigen::MatrixX2d uv(nV, 2);
+  Eigen::MatrixX2d gamma(nB, 2);
+  Eigen::Vector2d p = Eigen::Vector2d::Zero();
+  for (int i = 0; i < nB; ++i) {
+    gamma.row(i) = p.transpose();
+    uv.row(loop[i]) = p.transpose();
+    p += closedLength(i) * T.col(i);
+  }
+  // Step 6: harmonic extension of both coordinates, A_II x_I = −A_IB γ.
+  if (nI > 0) {
+    const Eigen::MatrixXd interior = solver.solve(Eigen::MatrixXd(-(Aib * gamma)));
+    for (int i = 0; i < nI; ++i) uv.row(interiorVertex[i]) = interior.row(i);
+  }
+  // The curve turns counter-clockwise with the surface on its left, so faces keep their
+  // orientation; mirror if a badly curved panel came out reversed.
+  double signedArea = 0.0;
+  for (int f = 0; f < nF; ++f) signedArea += signedArea2d(uv, panel.F, f);
+  if (signedArea < 0.0) uv.col(0) = -uv.col(0);
+  return uv;
+}
+
+}  // namespace
+
+Eigen::MatrixX2d flattenBff(const TriMesh& panel, const std::string& name,
+                            Eigen::VectorXd* logScale) {
+  const std::vector<int> loop = checkFlattenablePanel(panel, name);
+  return bffImpl(panel, loop, name, logScale);
+}
+
+// === Warp/weft refinement
+
+double warpWeftEnergy(const TriMesh& panel, const Eigen::Vector3d& grain,
+                      const Eigen::MatrixX2d& uv, double maxShear) {
+  const GrainFrames frames = grainFrames(panel, grain);
+  const Eigen::MatrixX4d J = grainJacobians(frames, panel.F, uv);
+  double energy = 0.0;
+  for (int f = 0; f < panel.numFaces(); ++f) {
+    const Eigen::Matrix2d Jf = jacobianOf(J, f);
+    energy += frames.area(f) * (Jf - warpWeftTarget(Jf, maxShear)).squaredNorm();
+  }
+  return energy;
+}
+
+WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& grain,
+                                  const Eigen::MatrixX2d& uv0, const FlattenOptions& options) {
+  const int nV = panel.numVertices(), nF = panel.numFaces();
+  if (uv0.rows() != nV)
+    throw InputError(
+        fmt::format("refineWarpWeft: uv has {} rows, the panel {} vertices", uv0.rows(), nV));
+  const GrainFrames frames = grainFrames(panel, grain);
+  WarpWeftRefinement result;
+  result.uv = uv0;
+  if (nV < 2) return result;
+
+  // Boundary edges (i → j) and their weights w_e = boundaryWeight·√A / l_e, so that
+  // Σ_e w_e l_e² ε² ≈ boundaryWeight · A · ε²: the whole boundary at strain ε weighs as much as
+  // boundaryWeight times the whole area at that strain, at any resolution.
+  const MeshTopology topology(panel.F, nV);
+  std::vector<std::array<int, 2>> bEdges;
+  std::vector<double> bLength, bWeight;
+  const double sqrtArea = std::sqrt(frames.area.sum());
+  if (options.boundaryWeight > 0.0)
+    for (const std::vector<int>& loop : topology.boundaryLoops())
+      for (size_t k = 0; k < loop.size(); ++k) {
+        const int i = loop[k], j = loop[(k + 1) % loop.size()];
+        const double l = (vertex(panel, j) - vertex(panel, i)).norm();
+        bEdges.push_back({i, j});
+        bLength.push_back(l);
+        bWeight.push_back(options.boundaryWeight * sqrtArea / l);
+      }
+
+  // Global step matrix: the 3D cotan Laplacian (Σ A_f ∇φ_i·∇φ_j) plus the boundary edges'
+  // graph Laplacian Σ w_e (e_i − e_j)(e_i − e_j)ᵀ, vertex `pinned` removed; factored once.
+  const int pinned = 0;
+  std::vector<Eigen::Triplet<double>> triplets;
+  {
+    const Eigen::SparseMatrix<double> L = cotanLaplacian(panel);
+    triplets.reserve(L.nonZeros() + 4 * bEdges.size());
+    for (int c = 0; c < L.outerSize(); ++c)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(L, c); it; ++it)
+        triplets.emplace_back(static_cast<int>(it.row()), c, it.value());
+    for (size_t e = 0; e < bEdges.size(); ++e) {
+      const auto [i, j] = bEdges[e];
+      triplets.emplace_back(i, i, bWeight[e]);
+      triplets.emplace_back(j, j, bWeight[e]);
+      triplets.emplace_back(i, j, -bWeight[e]);
+      triplets.emplace_back(j, i, -bWeight[e]);
+    }
+  }
+  Eigen::SparseMatrix<double> A(nV, nV);
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  const Eigen::VectorXd aPinned = A.col(pinned);  // A(:, pinned), moved to the right-hand side
+  auto reduced = [&](int v) { return v < pinned ? v : v - 1; };
+  triplets.clear();
+  for (int c = 0; c < A.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it) {
+      const int r = static_cast<int>(it.row());
+      if (r != pinned && c != pinned) triplets.emplace_back(reduced(r), reduced(c), it.value());
+    }
+  Eigen::SparseMatrix<double> Ar(nV - 1, nV - 1);
+  Ar.setFromTriplets(triplets.begin(), triplets.end());
+  SpdSolver solver;
+  solver.compute(Ar);
+
+  Eigen::MatrixX4d J = grainJacobians(frames, panel.F, result.uv);
+  std::vector<Eigen::Matrix2d> target(nF);
+  std::vector<Eigen::Vector2d> edgeTarget(bEdges.size());
+  // Local step: the targets of every face and boundary edge (the edge's current direction at
+  // its 3D length); returns the area energy and, in total, area + boundary energy.
+  auto localStep = [&](double& total) {
+    std::vector<double> faceEnergy(nF);
+    tbb::parallel_for(0, nF, [&](int f) {
+      const Eigen::Matrix2d Jf = jacobianOf(J, f);
+      target[f] = warpWeftTarget(Jf, options.maxShear);
+      faceEnergy[f] = frames.area(f) * (Jf - target[f]).squaredNorm();
+    });
+    double e = 0.0;
+    for (double x : faceEnergy) e += x;
+    total = e;
+    for (size_t k = 0; k < bEdges.size(); ++k) {
+      const Eigen::Vector2d d =
+          (result.uv.row(bEdges[k][1]) - result.uv.row(bEdges[k][0])).transpose();
+      edgeTarget[k] = d.norm() > 0.0 ? Eigen::Vector2d(bLength[k] * d.normalized())
+                                     : Eigen::Vector2d(bLength[k], 0.0);
+      total += bWeight[k] * (d - edgeTarget[k]).squaredNorm();
+    }
+    return e;
+  };
+  double energy = 0.0;
+  result.energyStart = localStep(energy);
+  int inverted = invertedFaceCount(result.uv, panel.F);
+  result.energyEnd = result.energyStart;
+  Eigen::MatrixX2d rhs(nV, 2);
+  for (int iter = 0; iter < options.refineIterations; ++iter) {
+    // Global step: A uv = Σ_f A_f T_f ∇φ_i + Σ_e w_e (±t_e), vertex `pinned` held in place.
+    rhs.setZero();
+    for (int f = 0; f < nF; ++f)
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector2d g(frames.gradients(f, 2 * i), frames.gradients(f, 2 * i + 1));
+        rhs.row(panel.F(f, i)) += frames.area(f) * (target[f] * g).transpose();
+      }
+    for (size_t k = 0; k < bEdges.size(); ++k) {
+      rhs.row(bEdges[k][1]) += bWeight[k] * edgeTarget[k].transpose();
+      rhs.row(bEdges[k][0]) -= bWeight[k] * edgeTarget[k].transpose();
+    }
+    Eigen::MatrixXd b(nV - 1, 2);
+    const Eigen::RowVector2d pin = result.uv.row(pinned);
+    for (int v = 0; v < nV; ++v)
+      if (v != pinned) b.row(reduced(v)) = rhs.row(v) - aPinned(v) * pin;
+    const Eigen::MatrixXd x = solver.solve(b);
+    Eigen::MatrixX2d next(nV, 2);
+    next.row(pinned) = pin;
+    for (int v = 0; v < nV; ++v)
+      if (v != pinned) next.row(v) = x.row(reduced(v));
+    ++result.iterations;
+    // A step that inverts more faces than the current iterate has (none, from a flip-free
+    // start) is shortened (uv + t(next − uv), t = ½, ¼, ...); when no shortened step will do,
+    // the current iterate is kept.
+    int nextInverted = invertedFaceCount(next, panel.F);
+    for (int halving = 0; nextInverted > inverted && halving < 6; ++halving) {
+      next = 0.5 * (result.uv + next);
+      nextInverted = invertedFaceCount(next, panel.F);
+    }
+    if (nextInverted > inverted) {
+      ++result.rejectedIterations;
+      break;
+    }
+    result.uv = next;
+    inverted = nextInverted;
+    J = grainJacobians(frames, panel.F, result.uv);
+    double nextEnergy = 0.0;
+    result.energyEnd = localStep(nextEnergy);
+    const double decrease = energy - nextEnergy;
+    energy = nextEnergy;
+    if (!(decrease > options.tolerance * std::max(energy, 1e-300))) break;
+  }
+  return result;
+}
+
+// === Grain alignment
+
+Eigen::MatrixX2d alignToGrain(const TriMesh& panel, const Eigen::Vector3d& grain,
+                              const Eigen::MatrixX2d& uv) {
+  const GrainFrames frames = grainFrames(panel, grain);
+  const Eigen::MatrixX4d J = grainJacobians(frames, panel.F, uv);
+  Eigen::Vector2d warp = Eigen::Vector2d::Zero(), centroid = Eigen::Vector2d::Zero();
+  double area = 0.0;
+  for (int f = 0; f < panel.numFaces(); ++f) {
+    warp += frames.area(f) * Eigen::Vector2d(J(f, 0), J(f, 1));
+    const double a = std::abs(signedArea2d(uv, panel.F, f));
+    for (int k = 0; k < 3; ++k) centroid += (a / 3.0) * uv.row(panel.F(f, k)).transpose();
+    area += a;
+  }
+  if (area > 0.0) centroid /= area;
+  // Rotation taking `warp` to +y.
+  const double angle = warp.norm() > 0.0 ? 0.5 * kPi - std::atan2(warp.y(), warp.x()) : 0.0;
+  const Eigen::Matrix2d R = Eigen::Rotation2Dd(angle).toRotationMatrix();
+  Eigen::MatrixX2d out(uv.rows(), 2);
+  for (int v = 0; v < uv.rows(); ++v)
+    out.row(v) = (R * (uv.row(v).transpose() - centroid)).transpose();
+  return out;
+}
+
+// === The whole flattening
+
+PanelFlattening flattenPanel(const TriMesh& panel, const Eigen::Vector3d& grain,
+                             const std::string& name, const FlattenOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!grain.allFinite() || grain.norm() == 0.0)
+    throw InputError(
+        fmt::format("panel '{}': the grain ({}, {}, {}) must be a finite non-zero "
+                    "vector (the panel's vertical)",
+                    name, grain.x(), grain.y(), grain.z()));
+  if (options.refineIterations < 0 || !(options.maxShear >= 0.0 && options.maxShear < 0.5 * kPi))
+    throw InputError(
+        fmt::format("panel '{}': FlattenOptions need refineIterations ≥ 0 and "
+                    "maxShear in [0, π/2) (got {} and {})",
+                    name, options.refineIterations, options.maxShear));
+  PanelFlattening out;
+  out.boundary = checkFlattenablePanel(panel, name);
+  Eigen::MatrixX2d uv = bffImpl(panel, out.boundary, name, &out.logScale);
+  out.energyBff = warpWeftEnergy(panel, grain, uv, options.maxShear);
+  out.energy = out.energyBff;
+  out.uvBff = options.alignGrain ? alignToGrain(panel, grain, uv) : uv;
+  if (options.refine && options.refineIterations > 0) {
+    WarpWeftRefinement refined = refineWarpWeft(panel, grain, out.uvBff, options);
+    out.energy = refined.energyEnd;
+    out.iterations = refined.iterations;
+    out.rejectedIterations = refined.rejectedIterations;
+    out.uv = options.alignGrain ? alignToGrain(panel, grain, refined.uv) : refined.uv;
+    // The refinement moves the boundary freely; a boundary that comes to overlap itself is
+    // not a pattern, so BFF's is kept then (BFF's own curve is checked by the caller).
+    if (polygonSelfIntersects(out.uv, out.boundary) &&
+        !polygonSelfIntersects(out.uvBff, out.boundary)) {
+      out.uv = out.uvBff;
+      out.energy = out.energyBff;
+      out.refinementReverted = true;
+    }
+  } else {
+    out.uv = out.uvBff;
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace s2p

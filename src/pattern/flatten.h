@@ -1,0 +1,117 @@
+// Flattening of one disk-topology 3D panel into the plane (paper §6.2): Boundary First
+// Flattening with u = 0 on the boundary (Sawhney & Crane 2018, "Boundary First Flattening",
+// ACM TOG 37(1)), then a local/global refinement that minimises the warp/weft strain of woven
+// fabric, then a rigid motion that puts the grain on +y.
+//
+// === BFF with u = 0 (what flattenBff computes)
+//  1. Angles from the 3D triangles; interior angle defects K_i = 2π − Σθ, boundary geodesic
+//     curvatures k_i = π − Σθ.
+//  2. Cotan Laplacian A split into interior/boundary blocks A_II, A_IB; A_II is factored once.
+//  3. Dirichlet-to-Neumann with u_B = 0 (flat target metric e^{2u}g, Yamabe ΔU = K in weak
+//     form A u = −K): A_II u_I = −K_I, then the target boundary curvature
+//     k̃ = k + ∂u/∂n = k + A_IBᵀ u_I (Σk̃ = 2π by Gauss–Bonnet; Sawhney & Crane §4.2).
+//  4. Target lengths l* = e^{(u_i+u_j)/2} l = l: boundary edges keep their 3D lengths.
+//  5. Tangents T_i = (cos φ_i, sin φ_i), φ_i = Σ_{j≤i} k̃_j; the curve is closed by the
+//     smallest change of lengths in the norm Σ(l̃−l*)²/l (the mass-matrix projection,
+//     Sawhney & Crane Eq. 11): l̃ = l* − N⁻¹Tᵀ(TN⁻¹Tᵀ)⁻¹T l*, N⁻¹ = diag(l); γ = cumsum(l̃T).
+//  6. Extension: BOTH coordinates of γ are extended harmonically into the interior with the
+//     same factor of A_II (the variant of §5.3 for a given boundary curve, not the
+//     conjugate-harmonic one; one factorisation instead of two). The cotan Laplacian
+//     reproduces linear functions, so a developable panel comes out exactly isometric; on a
+//     curved panel the map is very nearly conformal and the refinement below takes over.
+// u = 0 is BFF's "minimal area distortion" setting: among conformal flattenings it minimises
+// the Dirichlet energy of the log scale u; the interior still shrinks by e^{2u} where K > 0.
+//
+// === Warp/weft refinement (what refineWarpWeft computes)
+// Energy E(uv) = Σ_f A_f ‖J_f − T_f‖²_F with J_f the 2×2 Jacobian in the face's grain frame
+// (grain_frame.h) and T_f the closest matrix whose two columns (the images of a unit warp and a
+// unit weft step) have length 1 and make an angle within 90° ± maxShear. Local step: T_f per
+// face (closed form); global step: L uv = Σ_f A_f T_f ∇φ with L the 3D cotan Laplacian, one
+// vertex pinned, factored once. maxShear = 0 is ARAP (T_f a rotation); shear is what cloth
+// does cheaply, so it is allowed up to maxShear. Starts from BFF; no step is taken that
+// inverts more faces than the current iterate has: a flip-free start stays flip-free, a start
+// with inverted faces (BFF on a very curved panel) can only lose them. A third term keeps boundary
+// edges at their 3D lengths: Σ_e w_e ‖(q_j − q_i) − l_e d_e‖², d_e the edge's current direction
+// (local step), weighted by boundaryWeight (seam lengths matter to stitching).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/tri_mesh.h"
+
+namespace s2p {
+
+struct FlattenOptions {
+  bool refine = true;         // run the warp/weft local/global pass after BFF
+  int refineIterations = 20;  // at most this many local/global iterations
+  double tolerance = 1e-4;  // stop when an iteration lowers the energy by less than this (relative)
+  double maxShear = 0.35;   // rad (≈ 20°): allowed deviation of the warp–weft angle from 90°
+  // Weight of the boundary edges' lengths in the refinement (dimensionless: 1 weighs the
+  // boundary at strain ε like the whole area at strain ε). The sheared warp/weft fit of a
+  // doubly curved panel shortens edges oblique to the grain (a 20° spherical cap: boundary
+  // −1.5 %, a 40° cap −6 %); the term pulls them back but slowly and at a cost in strain (20°
+  // cap, weight 0.3: boundary −1.0 %, warp p95 0.15 % → 0.74 %). Off by default: strain is
+  // what the fabric feels; uvBff keeps the exact seam lengths.
+  double boundaryWeight = 0.0;
+  bool alignGrain = true;  // rotate so that the mean image of the grain is +y
+};
+
+struct PanelFlattening {
+  Eigen::MatrixX2d uv;              // #V×2, metres: the result (refined when options.refine)
+  Eigen::MatrixX2d uvBff;           // #V×2, metres: BFF alone, in the same frame conventions
+  Eigen::VectorXd logScale;         // #V: BFF's conformal log scale factor u (0 on the boundary)
+  std::vector<int> boundary;        // the boundary loop, vertex indices, counter-clockwise in uv
+  double energyBff = 0.0;           // warp/weft energy Σ A‖J − T‖² of uvBff (m²)
+  double energy = 0.0;              // same for uv
+  int iterations = 0;               // local/global iterations run
+  int rejectedIterations = 0;       // steps discarded because they inverted faces
+  bool refinementReverted = false;  // the refined boundary overlapped itself: uv = uvBff
+  double seconds = 0.0;             // wall time of flattenPanel
+};
+
+// Flattens a disk-topology panel. grain: the 3D direction that becomes the pattern's +y (the
+// garment's vertical; need not be unit). name: the panel's name for error messages.
+// uv is counter-clockwise (faces keep their orientation), its area centroid at the origin, the
+// area-weighted mean image of the unit warp step along +y (alignGrain).
+// Throws InputError for an empty mesh, non-finite coordinates, out-of-range indices, a vertex
+// no face uses, a zero-area face or a bad grain; TopologyError for a non-manifold mesh, more
+// than one piece, inconsistent orientation, no boundary, more than one boundary loop or
+// Euler characteristic ≠ 1; SolverError if a factorisation fails.
+PanelFlattening flattenPanel(const TriMesh& panel, const Eigen::Vector3d& grain,
+                             const std::string& name, const FlattenOptions& options = {});
+
+// The input checks of flattenPanel alone (throws as documented there); returns the boundary
+// loop (vertex indices, in the orientation of the faces).
+std::vector<int> checkFlattenablePanel(const TriMesh& panel, const std::string& name);
+
+// BFF with u = 0 on the boundary (steps 1–6 above), no rotation or centring. logScale: #V,
+// optional output. Same checks and errors as flattenPanel.
+Eigen::MatrixX2d flattenBff(const TriMesh& panel, const std::string& name,
+                            Eigen::VectorXd* logScale = nullptr);
+
+// Result of refineWarpWeft.
+struct WarpWeftRefinement {
+  Eigen::MatrixX2d uv;         // #V×2, metres
+  double energyStart = 0.0;    // warp/weft (area) energy of the start (m²)
+  double energyEnd = 0.0;      // of uv (the boundary term is not included)
+  int iterations = 0;          // local/global iterations run
+  int rejectedIterations = 0;  // steps discarded because they inverted faces
+};
+
+// Warp/weft local/global refinement (above) of a start uv0 (#V×2, best flip-free) of the
+// checked panel. options.refineIterations, tolerance and maxShear apply.
+WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& grain,
+                                  const Eigen::MatrixX2d& uv0, const FlattenOptions& options = {});
+
+// Warp/weft energy Σ_f A_f ‖J_f − T_f‖²_F of uv (m²), T_f as in the local step.
+double warpWeftEnergy(const TriMesh& panel, const Eigen::Vector3d& grain,
+                      const Eigen::MatrixX2d& uv, double maxShear);
+
+// Rotates uv about its area centroid so that the area-weighted mean image of the unit warp
+// step points along +y, and moves the centroid to the origin.
+Eigen::MatrixX2d alignToGrain(const TriMesh& panel, const Eigen::Vector3d& grain,
+                              const Eigen::MatrixX2d& uv);
+
+}  // namespace s2p
