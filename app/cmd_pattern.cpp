@@ -105,9 +105,16 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   progress.begin("seams and panels");
   const PanelsResult r = runPanels(in);
   progress.end();
+  progress.begin("flatten, outline and remesh the panels");
+  const FlatPatternResult flat = runFlatPattern(r, loaded.scan.mesh, BodyFrame(in.canonical));
+  progress.end();
   writePanels(cmd.out, loaded.scan, r);
+  writeFlatPattern(cmd.out, loaded.scan, r, flat);
   printPanels(r);
-  fmt::print("wrote {}/: panels.json, panels_3d.obj, panels.png\n", cmd.out);
+  printFlatPattern(r, flat);
+  fmt::print("wrote {}/: panels.json, panels_3d.obj, panels.png, flat.json, panels_flat.obj, "
+             "pattern_strain.png\n",
+             cmd.out);
   return 0;
 }
 

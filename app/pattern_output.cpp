@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include "app/commands.h"
+#include "export/pattern_sheet.h"
 #include "export/png.h"
+#include "pattern/grain_frame.h"
 #include "export/preview.h"
 #include "io/write_mesh.h"
 
@@ -198,6 +200,172 @@ void printPanels(const PanelsResult& r) {
   }
   for (const std::string& w : r.warnings) fmt::print("  warning: {}\n", w);
   fmt::print("  seams and panels in {:.2f} s\n", r.seconds);
+}
+
+namespace {
+
+json strainJson(const StrainSummary& s) { return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}}; }
+
+// Per face of the flattened panel: max(|warp − 1|, |weft − 1|).
+std::vector<double> faceStrain(const Panel& panel, const FlatPanel& fp) {
+  const GrainFrames frames = grainFrames(panel.mesh, fp.grain);
+  const Eigen::MatrixX4d J = grainJacobians(frames, panel.mesh.F, fp.uv);
+  std::vector<double> out(J.rows());
+  for (int f = 0; f < J.rows(); ++f)
+    out[f] = std::max(std::abs(Eigen::Vector2d(J(f, 0), J(f, 1)).norm() - 1),
+                      std::abs(Eigen::Vector2d(J(f, 2), J(f, 3)).norm() - 1));
+  return out;
+}
+
+std::string pieceName(const Panel& p) { return p.garment + " " + p.name; }
+
+}  // namespace
+
+json flatPatternToJson(const PanelsResult& panels, const FlatPatternResult& flat) {
+  json out = json::array();
+  for (const FlatPanel& fp : flat.panels) {
+    const Panel& p = panels.panels[fp.panel];
+    json j = {{"name", p.name}, {"garment", p.garment}, {"seconds", fp.seconds}};
+    if (!fp.error.empty()) {
+      j["error"] = fp.error;
+      out.push_back(j);
+      continue;
+    }
+    const FlatteningMetrics& m = fp.metrics;
+    double fit = 0;
+    for (const FlatEdge& e : fp.edges) fit = std::max(fit, e.fitError);
+    j.update({{"grain", {fp.grain.x(), fp.grain.y(), fp.grain.z()}},
+              {"area_3d_m2", m.area3d},
+              {"area_2d_m2", m.area2d},
+              {"area_distortion", {{"mean", m.areaDistortionMean}, {"max", m.areaDistortionMax}}},
+              {"warp_strain", strainJson(m.warp)},
+              {"weft_strain", strainJson(m.weft)},
+              {"boundary_length_error", m.boundaryLengthError},
+              {"inverted_faces", m.invertedFaces},
+              {"boundary_self_intersects", m.boundarySelfIntersects},
+              {"refinement_iterations", fp.flattening.iterations},
+              {"refinement_reverted", fp.flattening.refinementReverted},
+              {"bezier_fit_error_m", fit},
+              {"bezier_segments", [&] {
+                 json a = json::array();
+                 for (const FlatEdge& e : fp.edges) a.push_back(e.chain.size());
+                 return a;
+               }()},
+              {"remeshed", {{"vertices", fp.remeshed.V.rows()},
+                            {"faces", fp.remeshed.F.rows()},
+                            {"min_angle_deg", fp.remeshed.minAngleDeg},
+                            {"faces_below_angle_bound", fp.remeshed.badFaces},
+                            {"longest_edge_m", fp.remeshed.longestEdge}}}});
+    out.push_back(j);
+  }
+  json seams = json::array();
+  for (const SeamPair& s : flat.seams) {
+    const Panel& a = panels.panels[s.panelA];
+    const Panel& b = panels.panels[s.panelB];
+    seams.push_back({{"a", {{"panel", pieceName(a)}, {"edge", s.edgeA}, {"name", a.edges[s.edgeA].name}}},
+                     {"b", {{"panel", pieceName(b)}, {"edge", s.edgeB}, {"name", b.edges[s.edgeB].name}}},
+                     {"length_a_m", s.lengthA},
+                     {"length_b_m", s.lengthB},
+                     {"difference_mm", 1000 * std::abs(s.lengthA - s.lengthB)},
+                     {"vertices_each", s.samples}});
+  }
+  return {{"panels", out}, {"stitched_pairs", seams}, {"warnings", flat.warnings}, {"seconds", flat.seconds}};
+}
+
+void writeFlatPattern(const fs::path& dir, const Scan& scan, const PanelsResult& panels,
+                      const FlatPatternResult& flat) {
+  fs::create_directories(dir);
+  writeJson(dir / "flat.json", flatPatternToJson(panels, flat));
+  // The strain picture: the flattened panels (before remeshing), each face by its strain.
+  std::vector<SheetPiece> strainPieces, meshPieces;
+  std::vector<const FlatPanel*> done;
+  const std::vector<Rgb> scale = strainColours();
+  constexpr double kStrainMax = 0.10;
+  for (const FlatPanel& fp : flat.panels) {
+    if (!fp.error.empty()) continue;
+    const Panel& p = panels.panels[fp.panel];
+    SheetPiece sp;
+    sp.label = pieceName(p);
+    sp.V = fp.uv;
+    sp.F = p.mesh.F;
+    for (double s : faceStrain(p, fp)) sp.faceColour.push_back(colourAt(scale, s / kStrainMax));
+    Eigen::MatrixX2d outline(static_cast<int>(fp.remeshed.numBoundaryVertices), 2);
+    for (int i = 0; i < fp.remeshed.numBoundaryVertices; ++i) outline.row(i) = fp.remeshed.V.row(i);
+    sp.outlines.push_back(outline);
+    strainPieces.push_back(std::move(sp));
+    done.push_back(&fp);
+  }
+  writeSheetPng(dir / "pattern_strain.png", strainPieces,
+                {"max(|warp - 1|, |weft - 1|) per face", kStrainMax, scale, "%", 100});
+  // panels_flat.obj: the remeshed panels where the strain picture lays them out, z = 0.
+  const Eigen::MatrixX2d offset = layoutPieces(strainPieces);
+  int nV = 0, nF = 0;
+  for (const FlatPanel* fp : done) {
+    nV += static_cast<int>(fp->remeshed.V.rows());
+    nF += static_cast<int>(fp->remeshed.F.rows());
+  }
+  if (nF == 0) return;
+  TriMesh all;
+  all.V.resize(nV, 3);
+  all.F.resize(nF, 3);
+  Eigen::MatrixX3d colour(nV, 3);
+  Eigen::VectorXi group(nF);
+  std::vector<std::string> names;
+  const bool texture = scan.texture.has_value();
+  Eigen::MatrixX2d UV(texture ? nV : 0, 2);
+  int v0 = 0, f0 = 0;
+  for (size_t i = 0; i < done.size(); ++i) {
+    const FlatPanel& fp = *done[i];
+    for (int v = 0; v < fp.remeshed.V.rows(); ++v) {
+      const Eigen::Vector2d q = fp.remeshed.V.row(v).transpose() + offset.row(static_cast<int>(i)).transpose();
+      all.V.row(v0 + v) << q.x(), q.y(), 0;
+      const int f = fp.scanFace[v];
+      colour.row(v0 + v).setZero();
+      Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        if (scan.colour.rows() == scan.mesh.numVertices())
+          colour.row(v0 + v) += fp.scanBary(v, k) * scan.colour.row(scan.mesh.F(f, k));
+        if (texture) uv += fp.scanBary(v, k) * scan.texture->UV.row(scan.texture->FUV(f, k)).transpose();
+      }
+      if (texture) UV.row(v0 + v) = uv.transpose();
+    }
+    for (int f = 0; f < fp.remeshed.F.rows(); ++f) {
+      all.F.row(f0 + f) = fp.remeshed.F.row(f).array() + v0;
+      group[f0 + f] = static_cast<int>(i);
+    }
+    const Panel& p = panels.panels[fp.panel];
+    names.push_back(p.garment + "_" + p.name);
+    v0 += static_cast<int>(fp.remeshed.V.rows());
+    f0 += static_cast<int>(fp.remeshed.F.rows());
+  }
+  if (texture) {
+    Texture t = *scan.texture;
+    t.UV = UV;
+    t.FUV = all.F;
+    writeObjTextured(dir / "panels_flat.obj", all, t);
+  } else {
+    MeshAttributes attrs;
+    attrs.faceGroups = &group;
+    attrs.groupNames = &names;
+    if (colour.rows() == all.numVertices() && scan.colour.rows() > 0) attrs.colour = &colour;
+    writeObj(dir / "panels_flat.obj", all, attrs);
+  }
+}
+
+void printFlatPattern(const PanelsResult& panels, const FlatPatternResult& flat) {
+  int ok = 0;
+  double worstP95 = 0, worstPair = 0, minAngle = 180;
+  for (const FlatPanel& fp : flat.panels) {
+    if (!fp.error.empty()) continue;
+    ++ok;
+    worstP95 = std::max({worstP95, fp.metrics.warp.p95, fp.metrics.weft.p95});
+    minAngle = std::min(minAngle, fp.remeshed.minAngleDeg);
+  }
+  for (const SeamPair& s : flat.seams) worstPair = std::max(worstPair, std::abs(s.lengthA - s.lengthB));
+  fmt::print("flattened {} of {} panels in {:.2f} s: warp/weft strain p95 ≤ {:.1f} %, stitched "
+             "pairs within {:.1f} mm, remeshed min angle {:.1f}°\n",
+             ok, panels.panels.size(), flat.seconds, 100 * worstP95, 1000 * worstPair, minAngle);
+  for (const std::string& w : flat.warnings) fmt::print("  warning: {}\n", w);
 }
 
 }  // namespace s2p::app

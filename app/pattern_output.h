@@ -8,6 +8,7 @@
 
 #include "app/segment_output.h"
 #include "io/scan.h"
+#include "pattern/flat_pattern.h"
 #include "pattern/panels.h"
 
 namespace s2p::app {
@@ -20,5 +21,13 @@ nlohmann::json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInpu
 
 void writePanels(const std::filesystem::path& dir, const Scan& scan, const PanelsResult& r);
 void printPanels(const PanelsResult& r);
+
+// Patterns II: the per-panel flattening figures and the stitched pairs' 2D lengths.
+nlohmann::json flatPatternToJson(const PanelsResult& panels, const FlatPatternResult& flat);
+// panels_flat.obj (the remeshed panels laid out at z = 0, one group each, vertex colours and,
+// for a textured scan, texture coordinates from the scan), pattern_strain.png, flat.json.
+void writeFlatPattern(const std::filesystem::path& dir, const Scan& scan, const PanelsResult& panels,
+                      const FlatPatternResult& flat);
+void printFlatPattern(const PanelsResult& panels, const FlatPatternResult& flat);
 
 }  // namespace s2p::app

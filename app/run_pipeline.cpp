@@ -56,12 +56,17 @@ RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
   progress.begin("seams and panels");
   try {
     out.panels = runPanels(panelsInput(out.segment.segmentation, body));
+    out.stages.emplace_back("panels", secondsSince(t));
+    t = Clock::now();
+    progress.end();
+    progress.begin("flatten, outline and remesh the panels");
+    out.flat = runFlatPattern(out.panels, scan.scan.mesh, BodyFrame(body.canonical));
+    out.stages.emplace_back("flatten", secondsSince(t));
   } catch (const Error& e) {
     out.patternError = std::current_exception();
     out.patternErrorMessage = e.what();
   }
   progress.end();
-  out.stages.emplace_back("panels", secondsSince(t));
   return out;
 }
 
@@ -96,13 +101,15 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
           {"found", segmentationSummary(seg)},
           {"pattern", pattern},
           {"pattern_error", run.patternErrorMessage},
+          {"flat_pattern", flatPatternToJson(run.panels, run.flat)},
           {"warnings", warnings},
           {"outputs", {{"fit", "fit/: body_fit.obj, body_full.obj, body.json, fit_front.png, "
                                "fit_side.png"},
                        {"segment", "segment/: segmentation.ply, " + garmentFileList(seg) +
                                        "garments.json, boundaries.json, segment_boundaries.png, "
                                        "segment_labels.png"},
-                       {"pattern", "pattern/: panels.json, panels_3d.obj, panels.png"}}}};
+                       {"pattern", "pattern/: panels.json, panels_3d.obj, panels.png, flat.json, "
+                                   "panels_flat.obj, pattern_strain.png"}}}};
 }
 
 void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& model,
@@ -110,7 +117,10 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
   progress.begin("write outputs");
   writeFit(dir / "fit", scan.scan, model, run.fit);
   writeSegmentation(dir / "segment", scan.scan, run.segment);
-  if (!run.patternError) writePanels(dir / "pattern", scan.scan, run.panels);
+  if (!run.patternError) {
+    writePanels(dir / "pattern", scan.scan, run.panels);
+    writeFlatPattern(dir / "pattern", scan.scan, run.panels, run.flat);
+  }
   writeJson(dir / "report.json", runReport(scan, model, run));
   progress.end();
 }
@@ -119,9 +129,10 @@ void printRun(const RunOutput& run, const fs::path& dir) {
   printFit(run.fit);
   printSegmentation(run.segment.segmentation);
   printPanels(run.panels);
+  printFlatPattern(run.panels, run.flat);
   fmt::print("wrote {0}/report.json; pictures: {0}/fit/fit_front.png, {0}/fit/fit_side.png, "
              "{0}/segment/segment_boundaries.png, {0}/segment/segment_labels.png, "
-             "{0}/pattern/panels.png\n",
+             "{0}/pattern/panels.png, {0}/pattern/pattern_strain.png\n",
              dir.string());
 }
 

@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "app/segment_output.h"
 #include "fit/scan_fit.h"
+#include "pattern/flat_pattern.h"
 #include "pattern/panels.h"
 
 namespace s2p::app {
@@ -19,7 +20,8 @@ namespace s2p::app {
 struct RunOutput {
   ScanFit fit;
   SegmentOutput segment;
-  PanelsResult panels;  // seams, panels, garment types (§6.1)
+  PanelsResult panels;    // seams, panels, garment types (§6.1)
+  FlatPatternResult flat;  // flattened, outlined, remeshed panels (§6.2)
   // The pattern stage's failure, if any: the fit and segmentation are still written (to look
   // at), then the command rethrows it for its exit code.
   std::exception_ptr patternError;
