@@ -36,9 +36,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/tri_mesh.h"
 
 namespace s2p {
@@ -81,6 +83,25 @@ struct PanelFlattening {
 // Euler characteristic ≠ 1; SolverError if a factorisation fails.
 PanelFlattening flattenPanel(const TriMesh& panel, const Eigen::Vector3d& grain,
                              const std::string& name, const FlattenOptions& options = {});
+
+// One panel of a batch for flattenPanels.
+struct PanelToFlatten {
+  const TriMesh* mesh = nullptr;  // the 3D panel (not owned)
+  Eigen::Vector3d grain = Eigen::Vector3d::UnitY();
+  std::string name;
+};
+
+// Outcome of one panel in flattenPanels: the flattening, or the error that stopped it.
+struct PanelFlatteningOutcome {
+  std::optional<PanelFlattening> flattening;  // set when the panel flattened
+  std::string error;                          // the s2p::Error's message otherwise
+  ExitCode errorCode = ExitCode::Ok;          // and its exit code (Input, Topology, Solver)
+};
+
+// Flattens every panel (in parallel, TBB); a panel that throws an s2p::Error gets its message
+// in the outcome and the others are still flattened. Outcomes in the order of panels.
+std::vector<PanelFlatteningOutcome> flattenPanels(const std::vector<PanelToFlatten>& panels,
+                                                  const FlattenOptions& options = {});
 
 // The input checks of flattenPanel alone (throws as documented there); returns the boundary
 // loop (vertex indices, in the orientation of the faces).
