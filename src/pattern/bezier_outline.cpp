@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "core/error.h"
 
@@ -87,7 +88,7 @@ class ChainFitter {
   // the first chord when that differs from it by more than 45° (noise) or with two points.
   Eigen::Vector2d endTangent(int i, int direction) const {
     const Eigen::Vector2d p0 = pts_[i], p1 = pts_[i + direction];
-    const Eigen::Vector2d chord = (p1 - p0).normalized();
+    Eigen::Vector2d chord = (p1 - p0).normalized();
     const int n = static_cast<int>(pts_.size());
     if (n < 3) return chord;
     const Eigen::Vector2d p2 = pts_[i + 2 * direction];
@@ -97,7 +98,7 @@ class ChainFitter {
                               (h1 + h2) / (h1 * h2) * p1 - h1 / (h2 * (h1 + h2)) * p2;
     if (!(d.norm() > 0.0) || !d.allFinite()) return chord;
     const Eigen::Vector2d t = d.normalized();
-    return t.dot(chord) > std::cos(0.25 * 3.141592653589793) ? t : chord;
+    return t.dot(chord) > std::cos(0.25 * std::numbers::pi) ? t : chord;
   }
 
   // Unit tangent at an inner split point, pointing backwards (towards pts_[i − 1]).

@@ -499,4 +499,20 @@ PanelFlattening flattenPanel(const TriMesh& panel, const Eigen::Vector3d& grain,
   return out;
 }
 
+std::vector<PanelFlatteningOutcome> flattenPanels(const std::vector<PanelToFlatten>& panels,
+                                                  const FlattenOptions& options) {
+  std::vector<PanelFlatteningOutcome> outcomes(panels.size());
+  tbb::parallel_for(size_t{0}, panels.size(), [&](size_t i) {
+    const PanelToFlatten& p = panels[i];
+    try {
+      if (!p.mesh) throw InputError(fmt::format("panel '{}': no mesh given", p.name));
+      outcomes[i].flattening = flattenPanel(*p.mesh, p.grain, p.name, options);
+    } catch (const Error& e) {
+      outcomes[i].error = e.what();
+      outcomes[i].errorCode = e.exitCode();
+    }
+  });
+  return outcomes;
+}
+
 }  // namespace s2p

@@ -7,15 +7,15 @@
 //  1. Angles from the 3D triangles; interior angle defects K_i = 2π − Σθ, boundary geodesic
 //     curvatures k_i = π − Σθ.
 //  2. Cotan Laplacian A split into interior/boundary blocks A_II, A_IB; A_II is factored once.
-//  3. Dirichlet-to-Neumann with u_B = 0 (flat target metric e^{2u}g, Yamabe ΔU = K in weak
-//     form A u = −K): A_II u_I = −K_I, then the target boundary curvature
-//     k̃ = k + ∂u/∂n = k + A_IBᵀ u_I (Σk̃ = 2π by Gauss–Bonnet; Sawhney & Crane §4.2).
+//  3. Dirichlet-to-Neumann with u_B = 0 (flat target metric e^{2u}g: Δu = K, in weak form
+//     A u = −K): A_II u_I = −K_I, then the target boundary curvature
+//     k̃ = k + ∂u/∂n = k + A_IBᵀ u_I (Σk̃ = 2π by Gauss–Bonnet, since A's rows sum to zero).
 //  4. Target lengths l* = e^{(u_i+u_j)/2} l = l: boundary edges keep their 3D lengths.
 //  5. Tangents T_i = (cos φ_i, sin φ_i), φ_i = Σ_{j≤i} k̃_j; the curve is closed by the
-//     smallest change of lengths in the norm Σ(l̃−l*)²/l (the mass-matrix projection,
-//     Sawhney & Crane Eq. 11): l̃ = l* − N⁻¹Tᵀ(TN⁻¹Tᵀ)⁻¹T l*, N⁻¹ = diag(l); γ = cumsum(l̃T).
+//     smallest change of lengths in the norm Σ(l̃−l*)²/l (BFF's mass-matrix projection):
+//     l̃ = l* − N⁻¹Tᵀ(TN⁻¹Tᵀ)⁻¹T l*, N⁻¹ = diag(l); γ = cumsum(l̃T).
 //  6. Extension: BOTH coordinates of γ are extended harmonically into the interior with the
-//     same factor of A_II (the variant of §5.3 for a given boundary curve, not the
+//     same factor of A_II (BFF's extension for a given target curve, not the
 //     conjugate-harmonic one; one factorisation instead of two). The cotan Laplacian
 //     reproduces linear functions, so a developable panel comes out exactly isometric; on a
 //     curved panel the map is very nearly conformal and the refinement below takes over.
@@ -36,9 +36,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "core/tri_mesh.h"
 
 namespace s2p {
@@ -82,6 +84,25 @@ struct PanelFlattening {
 PanelFlattening flattenPanel(const TriMesh& panel, const Eigen::Vector3d& grain,
                              const std::string& name, const FlattenOptions& options = {});
 
+// One panel of a batch for flattenPanels.
+struct PanelToFlatten {
+  const TriMesh* mesh = nullptr;  // the 3D panel (not owned)
+  Eigen::Vector3d grain = Eigen::Vector3d::UnitY();
+  std::string name;
+};
+
+// Outcome of one panel in flattenPanels: the flattening, or the error that stopped it.
+struct PanelFlatteningOutcome {
+  std::optional<PanelFlattening> flattening;  // set when the panel flattened
+  std::string error;                          // the s2p::Error's message otherwise
+  ExitCode errorCode = ExitCode::Ok;          // and its exit code (Input, Topology, Solver)
+};
+
+// Flattens every panel (in parallel, TBB); a panel that throws an s2p::Error gets its message
+// in the outcome and the others are still flattened. Outcomes in the order of panels.
+std::vector<PanelFlatteningOutcome> flattenPanels(const std::vector<PanelToFlatten>& panels,
+                                                  const FlattenOptions& options = {});
+
 // The input checks of flattenPanel alone (throws as documented there); returns the boundary
 // loop (vertex indices, in the orientation of the faces).
 std::vector<int> checkFlattenablePanel(const TriMesh& panel, const std::string& name);
@@ -101,7 +122,7 @@ struct WarpWeftRefinement {
 };
 
 // Warp/weft local/global refinement (above) of a start uv0 (#V×2, best flip-free) of the
-// checked panel. options.refineIterations, tolerance and maxShear apply.
+// checked panel. options.refineIterations, tolerance, maxShear and boundaryWeight apply.
 WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& grain,
                                   const Eigen::MatrixX2d& uv0, const FlattenOptions& options = {});
 
