@@ -21,6 +21,9 @@
 namespace s2p {
 
 struct FlatPatternOptions {
+  // Without the boundary term (boundaryWeight 0): on the demo scan it held seam lengths better
+  // (partners within 2.3 mm at weight 4, 5.9 mm at 1, 9.9 mm at 0) but doubled the strain (p95 up
+  // to 9.7 % at 4, 4.9 % at 0) and inverted more faces; the strain bound of cloth wins.
   FlattenOptions flatten;
   BezierFitOptions bezier;  // 1 mm by default
   RemeshOptions remesh;     // 10 mm target edge, ≥ 20.7°

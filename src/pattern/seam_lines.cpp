@@ -3,12 +3,14 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 
 #include "core/error.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
+#include "segment/biharmonic.h"
 #include "segment/surface_spline.h"
 
 namespace s2p {
@@ -145,6 +147,7 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
   std::unique_ptr<BoundaryOptimizer> optimizer;  // built once, for the first seam kept
   BoundaryOptions bopt = options.boundary;
   bopt.maxIterations = std::max(1, options.regularisationSteps);
+  bopt.dropStrayCurves = false;
   const Eigen::VectorXd noDisplacement = Eigen::VectorXd::Zero(garment.numVertices());
 
   std::vector<SeamLine> out;
@@ -173,7 +176,21 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
         seam.anchors += static_cast<int>(p.size());
         seam.droppedAnchors += static_cast<int>(p.size() - kept.size());
         std::string why;
-        if (static_cast<int>(kept.size()) < options.minAnchors)
+        // An open spline whose surviving anchors lie on both sides of an ill-projected stretch
+        // is broken: across the middle of the seam the garment leaves the body (a skirt over the
+        // crotch, where the trousers' seam would run between the legs).
+        int first = -1, last = -1;
+        for (int i = 0; i < static_cast<int>(p.size()); ++i)
+          if (p[i].ok()) {
+            if (first < 0) first = i;
+            last = i;
+          }
+        const int gap = first < 0 ? 0 : (last - first + 1) - static_cast<int>(kept.size());
+        if (!s.closed && gap > 0)
+          why = fmt::format("{} anchors ill-projected between surviving ones: the garment leaves "
+                            "the body across the middle of the seam",
+                            gap);
+        else if (static_cast<int>(kept.size()) < options.minAnchors)
           why = fmt::format("{} of {} anchors survived the ill-projection tests, {} needed",
                             kept.size(), p.size(), options.minAnchors);
         // A sleeve exists only where the garment has an opening on that arm beyond the
@@ -244,6 +261,19 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
       try {
         if (!optimizer) optimizer = std::make_unique<BoundaryOptimizer>(garment, bopt);
         const Eigen::VectorXd phi0 = optimizer->initialImplicit(zeros, signs);
+        if (std::getenv("S2P_DEBUG_SEAMS")) {
+          const Isoline iso0 = extractIsoline(garment, topo, phi0);
+          fmt::print(stderr, "seam {}: {} zero sets, {} signs (+{} −{}), phi0 [{:.3f}, {:.3f}], {} curves, length {:.3f}\n",
+                     seam.name, zeros.size(), signs.size(), pos, neg, phi0.minCoeff(), phi0.maxCoeff(),
+                     iso0.curves.size(), iso0.length());
+          std::vector<ValueConstraint> all = signs;
+          for (const auto& z : zeros) for (const auto& q : z) all.push_back({q, 0.0});
+          const Eigen::VectorXd b = biharmonicFunction(garment, all);
+          const Isoline ib = extractIsoline(garment, topo, b);
+          fmt::print(stderr, "  biharmonic [{:.3f}, {:.3f}], {} curves, length {:.3f};", b.minCoeff(), b.maxCoeff(), ib.curves.size(), ib.length());
+          for (const auto& c : signs) fmt::print(stderr, " {:+.0f}:{:.2f}", c.value, c.point.interpolate(garment.F, b));
+          fmt::print(stderr, "\n");
+        }
         BoundaryResult r = optimizer->iterate(phi0, signs, noDisplacement);
         if (r.vanished) {
           seam.removedWhy = "its zero set vanished under the length regularisation";

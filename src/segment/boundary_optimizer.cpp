@@ -95,7 +95,7 @@ struct BoundaryOptimizer::Impl {
     Isoline iso = extractIsoline(mesh, topology, phiB);
     timings.isoline += secondsSince(t0);
     Eigen::VectorXd sign = phiB;
-    if (constraints && (dropStrayLoops(iso, *constraints) || votes))
+    if (constraints && ((options.dropStrayCurves && dropStrayLoops(iso, *constraints)) || votes))
       sign = regionSigns(mesh, topology, area, iso, phiB, *constraints,
                          votes ? *votes : besideCurves(iso, phiB));
     if (iso.curves.empty()) return {};

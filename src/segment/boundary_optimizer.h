@@ -45,6 +45,11 @@ struct BoundaryOptions {
   // and a fast path"; tolerance 0.5 mm mean and 3 mm p95 per preset, measured at most 0.02 mm
   // and 0.46 mm over the 19 presets, bench/RESULTS.md), 3–4× faster.
   bool faithful = false;
+  // φ₀: curves of the first biharmonic that pass next to no zero constraint are dropped and the
+  // regions re-signed from the sign points (a boundary lies on its spline; stray loops are the
+  // biharmonic's extrapolation). Seams keep them: a t-shirt's front/back seam also runs over the
+  // shoulder, where no spline was drawn (§6.1).
+  bool dropStrayCurves = true;
   GeodesicMethod geodesic = GeodesicMethod::FastMarching;
   HeatDistanceOptions heat;
   BiharmonicOptions biharmonic;
