@@ -173,13 +173,15 @@ void writePanels(const fs::path& dir, const Scan& scan, const PanelsResult& r) {
   scene.meshes.push_back({&scan.mesh, nullptr, Rgb{215, 215, 215}});
   std::vector<TriMesh> meshes(r.panels.size());
   for (size_t i = 0; i < r.panels.size(); ++i) {
+    // Lifted 2 mm off the scan along the normals so that the panels win the depth test.
     meshes[i] = r.panels[i].mesh;
+    meshes[i].V += 0.002 * vertexNormals(meshes[i]);
     scene.meshes.push_back({&meshes[i], nullptr, panelColour(static_cast<int>(i))});
     for (const PanelEdge& e : r.panels[i].edges) {
       if (e.opening) continue;
       Eigen::MatrixX3d P(static_cast<int>(e.vertices.size()), 3);
       for (size_t k = 0; k < e.vertices.size(); ++k)
-        P.row(static_cast<int>(k)) = r.panels[i].mesh.V.row(e.vertices[k]);
+        P.row(static_cast<int>(k)) = meshes[i].V.row(e.vertices[k]);
       scene.lines.push_back({P, e.name == "cut" ? Rgb{200, 0, 200} : Rgb{20, 20, 20}, 2.5f, false,
                              false});
     }
