@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
+#include "core/shapes.h"
 #include "segment/mesh_cut.h"
 
 namespace s2p {
@@ -343,6 +344,17 @@ class GarmentPanelizer {
       ++merged_;
       changed = true;
     }
+    // Pieces of one label that touch once the slivers between them are gone are one panel (a
+    // thin band between two nearby isolines of one seam, e.g. around a shin, had split a leg).
+    {
+      UnionFind join(nP);
+      for (int e = 0; e < topo_->numEdges(); ++e) {
+        const std::vector<int> ef = topo_->edgeFaces(e);
+        if (ef.size() == 2 && pieceKey[piece_[ef[0]]] == pieceKey[piece_[ef[1]]])
+          join.join(piece_[ef[0]], piece_[ef[1]]);
+      }
+      for (int f = 0; f < nF; ++f) piece_[f] = join.find(piece_[f]);
+    }
     // Renumber the surviving pieces: they are the panels.
     std::map<int, int> renumber;
     for (int f = 0; f < nF; ++f) {
@@ -665,13 +677,112 @@ void panelizeGarment(const PanelsInput& input, int garment, std::vector<SeamLine
       .run(std::move(seams));
 }
 
+int dropStrayPieces(PanelsInput::Garment& g, double minFraction) {
+  if (g.mesh.numFaces() == 0) return 0;
+  const MeshTopology topo(g.mesh.F, g.mesh.numVertices());
+  const int nC = topo.numComponents();
+  if (nC <= 1) return 0;
+  const Eigen::VectorXi& comp = topo.faceComponent();
+  const Eigen::VectorXd area = faceAreas(g.mesh);
+  std::vector<double> compArea(nC, 0.0);
+  std::vector<char> open(nC, 0);
+  for (int f = 0; f < g.mesh.numFaces(); ++f) compArea[comp[f]] += area[f];
+  for (int e = 0; e < topo.numEdges(); ++e)
+    if (topo.isBoundaryEdge(e)) open[comp[topo.edgeFaces(e).front()]] = 1;
+  const double total = area.sum();
+  std::vector<int> keep;
+  int dropped = 0;
+  for (int c = 0; c < nC; ++c) {
+    const bool stray = !open[c] || compArea[c] < minFraction * total;
+    dropped += stray;
+  }
+  if (dropped == 0) return 0;
+  for (int f = 0; f < g.mesh.numFaces(); ++f) {
+    const int c = comp[f];
+    if (open[c] && compArea[c] >= minFraction * total) keep.push_back(f);
+  }
+  TriMesh m;
+  m.V = g.mesh.V;
+  m.F.resize(static_cast<int>(keep.size()), 3);
+  Eigen::VectorXi origin(static_cast<int>(keep.size()));
+  for (size_t i = 0; i < keep.size(); ++i) {
+    m.F.row(static_cast<int>(i)) = g.mesh.F.row(keep[i]);
+    origin[static_cast<int>(i)] = g.faceOrigin[keep[i]];
+  }
+  removeUnreferencedVertices(m);
+  g.mesh = std::move(m);
+  g.faceOrigin = origin;
+  return dropped;
+}
+
+int fillScanHoles(PanelsInput::Garment& g, const BodyFrame& frame) {
+  if (g.mesh.numFaces() == 0) return 0;
+  const MeshTopology topo(g.mesh.F, g.mesh.numVertices());
+  if (!topo.manifoldness().isManifold()) return 0;  // refused with its own error later
+  const std::vector<Opening> openings = classifyOpenings(g.mesh, topo, g.kind, frame);
+  // The longest loop of each name is the opening; the others are holes.
+  std::map<std::string, int> longest;
+  for (size_t i = 0; i < openings.size(); ++i) {
+    auto [it, added] = longest.try_emplace(openings[i].name, static_cast<int>(i));
+    if (openings[i].length > openings[it->second].length) it->second = static_cast<int>(i);
+  }
+  std::vector<Eigen::RowVector3d> newV;
+  std::vector<Eigen::RowVector3i> newF;
+  std::vector<int> newOrigin;
+  int filled = 0;
+  for (size_t i = 0; i < openings.size(); ++i) {
+    if (longest[openings[i].name] == static_cast<int>(i)) continue;
+    const std::vector<int>& loop = openings[i].vertices;
+    if (loop.size() < 3) continue;
+    const int c = g.mesh.numVertices() + static_cast<int>(newV.size());
+    Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
+    for (int v : loop) centre += g.mesh.V.row(v);
+    newV.push_back(centre / static_cast<double>(loop.size()));
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const int a = loop[k], b = loop[(k + 1) % loop.size()];
+      // The surface lies left of a → b, so the fill face runs b → a.
+      newF.push_back({b, a, c});
+      const int e = topo.findEdge(a, b);
+      newOrigin.push_back(g.faceOrigin[topo.edgeFaces(e).front()]);
+    }
+    ++filled;
+  }
+  if (filled == 0) return 0;
+  const int nV = g.mesh.numVertices(), nF = g.mesh.numFaces();
+  g.mesh.V.conservativeResize(nV + static_cast<int>(newV.size()), 3);
+  for (size_t i = 0; i < newV.size(); ++i) g.mesh.V.row(nV + static_cast<int>(i)) = newV[i];
+  g.mesh.F.conservativeResize(nF + static_cast<int>(newF.size()), 3);
+  g.faceOrigin.conservativeResize(nF + static_cast<int>(newF.size()));
+  for (size_t i = 0; i < newF.size(); ++i) {
+    g.mesh.F.row(nF + static_cast<int>(i)) = newF[i];
+    g.faceOrigin[nF + static_cast<int>(i)] = newOrigin[i];
+  }
+  return filled;
+}
+
 PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   validateMesh(input.body, "fitted body");
   const BodyFrame frame(input.canonical);
   PanelsResult result;
-  for (size_t g = 0; g < input.garments.size(); ++g) {
-    GarmentPanelizer(input, input.garments[g], static_cast<int>(g), frame, options, result).run();
+  // Holes where no camera looked (armpits, under the arms) are boundary loops too, but not
+  // garment openings: every loop but the longest of each opening name is filled.
+  std::vector<PanelsInput::Garment> garments = input.garments;
+  for (size_t g = 0; g < garments.size(); ++g) {
+    // Closed bubbles and crumbs labelled as the garment are no cloth to cut.
+    const int dropped = dropStrayPieces(garments[g], options.minPanelFraction);
+    if (dropped > 0)
+      result.warnings.push_back(fmt::format("garment '{}': {} closed or tiny piece(s) left out "
+                                            "(no cloth to cut)",
+                                            garments[g].name, dropped));
+    const int filled = fillScanHoles(garments[g], frame);
+    if (filled > 0)
+      result.warnings.push_back(fmt::format("garment '{}': {} hole(s) of the scan filled (boundary "
+                                            "loops that are not its openings)",
+                                            garments[g].name, filled));
+  }
+  for (size_t g = 0; g < garments.size(); ++g) {
+    GarmentPanelizer(input, garments[g], static_cast<int>(g), frame, options, result).run();
   }
   result.seconds = secondsSince(t0);
   return result;

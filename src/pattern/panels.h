@@ -92,6 +92,16 @@ struct PanelsResult {
 // survives and that is not a disk, or a panel that even the fallback cut cannot make a disk.
 PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options = {});
 
+// Leaves out the garment's connected pieces that are closed (no boundary: a bubble, no cloth)
+// or below `minFraction` of its area. Returns how many. runPanels does this first.
+int dropStrayPieces(PanelsInput::Garment& garment, double minFraction);
+
+// Fills the garment's boundary loops that are not openings (holes of the scan: every loop but the
+// longest of each opening name) with a fan around the loop's centroid; the new faces take the
+// scan face of the face they border. Returns the number of holes filled. runPanels does this
+// first.
+int fillScanHoles(PanelsInput::Garment& garment, const BodyFrame& frame);
+
 // The second half of runPanels for garment `garment` of `input`, with its seam lines given (their
 // phi on the garment's vertices) instead of estimated from the body's features; appends to
 // `result`. For tests and for seams drawn by other means. Throws as runPanels.

@@ -176,20 +176,25 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
         seam.anchors += static_cast<int>(p.size());
         seam.droppedAnchors += static_cast<int>(p.size() - kept.size());
         std::string why;
-        // An open spline whose surviving anchors lie on both sides of an ill-projected stretch
-        // is broken: across the middle of the seam the garment leaves the body (a skirt over the
-        // crotch, where the trousers' seam would run between the legs).
+        // An open spline is broken where an ill-projected anchor between surviving ones lies far
+        // from the garment: across the middle of the seam the garment leaves the body (a skirt
+        // over the crotch, where trousers' seam runs between the legs). An anchor dropped close
+        // to the garment (the armpit, where its rays meet the torso) does not break it.
         int first = -1, last = -1;
         for (int i = 0; i < static_cast<int>(p.size()); ++i)
           if (p[i].ok()) {
             if (first < 0) first = i;
             last = i;
           }
-        const int gap = first < 0 ? 0 : (last - first + 1) - static_cast<int>(kept.size());
+        int gap = 0;
+        for (int i = first + 1; i < last; ++i)
+          if (!p[i].ok() && (p[i].p - s.anchors[i].position(body)).norm() >
+                                options.brokenSeamDistance * popt.bodyLength)
+            ++gap;
         if (!s.closed && gap > 0)
-          why = fmt::format("{} anchors ill-projected between surviving ones: the garment leaves "
-                            "the body across the middle of the seam",
-                            gap);
+          why = fmt::format("{} anchor(s) between surviving ones lie more than {:.0f} mm from the "
+                            "garment: it leaves the body across the middle of the seam",
+                            gap, 1000 * options.brokenSeamDistance * popt.bodyLength);
         else if (static_cast<int>(kept.size()) < options.minAnchors)
           why = fmt::format("{} of {} anchors survived the ill-projection tests, {} needed",
                             kept.size(), p.size(), options.minAnchors);

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -42,10 +43,18 @@ struct SeamOptions {
   BoundaryOptions boundary;
   int regularisationSteps = 3;  // backward Euler steps of Eq. (4) on the seam's signed distance
   int minAnchors = 3;           // §6.1.2: a spline with fewer surviving anchors is removed
+  // An open spline with an ill-projected anchor between surviving ones farther than this
+  // (fraction of the body's height, ≈ 7 cm) from the garment is removed: the garment does not
+  // follow the body there (a skirt over the crotch; loose wear is ~2–5 cm away).
+  double brokenSeamDistance = 0.04;
   double splineSpacing = 0.005;  // m between zero constraints along a spline
   // The armhole seam's extra constraints (§6.1.2): boundary points about this far apart (m).
   double boundaryConstraintSpacing = 0.02;
-  double minIslandArea = 0.004;  // m²: sign regions smaller than this without a sign point flip
+  // m²: regions of the seam's sign holding no sign point flip to their surroundings' side when
+  // smaller than this. Any size by default: every true panel region holds sign points (pairs on
+  // the torso and every limb), and a region without one is the biharmonic's extrapolation (a
+  // band below dropped ankle pairs turned a shin's front into 'back').
+  double minIslandArea = std::numeric_limits<double>::infinity();
 };
 
 // A garment opening: one boundary loop of the cut garment, named by where it lies on the body.

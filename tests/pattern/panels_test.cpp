@@ -325,3 +325,32 @@ TEST(Openings, NamedByWhereTheyLieOnTheBody) {
 
 }  // namespace
 }  // namespace s2p
+
+namespace s2p {
+namespace {
+
+TEST(Panels, ScanHolesAreFilledButOpeningsKept) {
+  // A torso tube with a hole punched in its front (a place no camera saw).
+  const TriMesh tube = torsoTube();
+  TriMesh holed = tube;
+  std::vector<Eigen::RowVector3i> kept;
+  for (int f = 0; f < tube.numFaces(); ++f) {
+    const Vec3 c = (tube.V.row(tube.F(f, 0)) + tube.V.row(tube.F(f, 1)) + tube.V.row(tube.F(f, 2))) / 3;
+    if ((c - Vec3(0, 0.2, 0.15)).norm() > 0.03) kept.push_back(tube.F.row(f));
+  }
+  holed.F.resize(static_cast<int>(kept.size()), 3);
+  for (size_t f = 0; f < kept.size(); ++f) holed.F.row(static_cast<int>(f)) = kept[f];
+  removeUnreferencedVertices(holed);
+  PanelsInput in = inputFor(holed, GarmentKind::Upper);
+  ASSERT_EQ(MeshTopology(holed.F, holed.numVertices()).boundaryLoops().size(), 3u);
+  PanelsInput::Garment g = in.garments[0];
+  EXPECT_EQ(fillScanHoles(g, BodyFrame(skeleton())), 1);
+  const MeshTopology t(g.mesh.F, g.mesh.numVertices());
+  EXPECT_EQ(t.boundaryLoops().size(), 2u);  // hem and neckline stay open
+  EXPECT_TRUE(t.manifoldness().isManifold());
+  EXPECT_EQ(g.faceOrigin.size(), g.mesh.numFaces());
+  EXPECT_EQ(t.eulerCharacteristic(), 0);  // a tube again
+}
+
+}  // namespace
+}  // namespace s2p
