@@ -32,8 +32,8 @@ TriMesh legs() {
   return concat(ellipsoid({-0.09, 0.32, 0}, {0.06, 0.32, 0.06}),
                 ellipsoid({0.09, 0.32, 0}, {0.06, 0.32, 0.06}));
 }
-// A floor patch under the feet, 1.2 m wide.
-TriMesh floorPatch() { return sheet(0, -0.005, 0, 1.2); }
+// A floor patch under the feet, 0.8 m wide (smaller than the body).
+TriMesh floorPatch() { return sheet(0, -0.005, 0, 0.8); }
 
 int countRole(const PersonPieces& p, PieceRole role) {
   int n = 0;
@@ -127,7 +127,7 @@ TEST(PersonPieces, TwoPeopleError) {
 // the feet are on y = 0 again, and a scan in millimetres comes out in metres.
 TEST(PersonPieces, NormalizePersonDropsTheFloorBeforePlacingTheFeet) {
   Scan scan;
-  TriMesh m = concat(concat(body(), legs()), sheet(0, -0.05, 0, 1.2));
+  TriMesh m = concat(concat(body(), legs()), sheet(0, -0.05, 0, 0.8));
   m.V *= 1000.0;  // millimetres
   scan.mesh = m;
   NormalizeReport report;

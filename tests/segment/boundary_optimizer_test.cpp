@@ -113,7 +113,7 @@ TEST(BoundaryOptimizer, ThreeDisconnectedPiecesEachReachItsColourEdge) {
   TriMesh ball = makeIcosphere(3, 0.08);
   ball.V.rowwise() += Eigen::RowVector3d(0, -0.12, 0);
   TriMesh m = a.mesh;
-  for (const TriMesh* piece : {&a.mesh, &ball}) {
+  for (const TriMesh* piece : {&a.mesh, static_cast<const TriMesh*>(&ball)}) {
     const int nv = m.numVertices(), nf = m.numFaces();
     m.V.conservativeResize(nv + piece->numVertices(), 3);
     m.V.bottomRows(piece->numVertices()) = piece->V;
