@@ -49,7 +49,10 @@ void addEvalCommand(CLI::App& app, Commands& out) {
       "eval",
       "Score a segmentation against a synthetic scan's ground truth: IoU per label, "
       "boundary distance (mm) and roughness, body joint error");
-  cmd->add_option("--truth", o->truth, "truth.json of a synthetic scan")->required();
+  cmd->add_option("--truth", o->truth,
+                  "truth.json of a synthetic scan, NAME.truth.json of an outside scan (with "
+                  "NAME.ply beside it), or a labelled PLY (boundaries from its label edges)")
+      ->required();
   cmd->add_option("--pred", o->pred,
                   "Labelled PLY (face or vertex \"label\"), or a folder holding "
                   "segmentation.ply and optionally boundaries.json and body.json")

@@ -15,6 +15,7 @@
 #include "export/preview.h"
 #include "io/cleanup.h"
 #include "io/normalize.h"
+#include "io/person_pieces.h"
 #include "io/read_scan.h"
 #include "io/write_mesh.h"
 
@@ -43,7 +44,8 @@ struct LoadedScan {
   Scan scan;
   ReadReport read;
   CleanupReport cleanup;
-  NormalizeReport normalize;
+  NormalizeReport normalize;  // its warnings also carry the pieces' lines (report.json)
+  PersonPieces pieces;        // which pieces are the person, what was dropped
   double normalizeSeconds = 0;
 };
 

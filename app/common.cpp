@@ -42,7 +42,11 @@ LoadedScan loadScan(const fs::path& path, const LoadOptions& opt, Progress& prog
   progress.end();
   for (const auto& w : out.cleanup.warnings) progress.message("warning: " + w);
   const auto t0 = std::chrono::steady_clock::now();
-  out.normalize = normalizeScan(out.scan, normOpt);
+  out.pieces = normalizePerson(out.scan, normOpt, out.normalize);
+  for (const auto& w : out.pieces.warnings) {
+    progress.message("clean-up: " + w);
+    out.normalize.warnings.push_back("clean-up: " + w);
+  }
   out.normalizeSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
@@ -81,11 +85,25 @@ json infoJson(const LoadedScan& s) {
                   {"unreferenced_vertices", s.cleanup.unreferencedVertices},
                   {"split_non_manifold_vertices", s.cleanup.splitNonManifoldVertices},
                   {"largest_hole_perimeter_m", s.cleanup.largestHolePerimeter}};
+  json pieces = json::array();
+  for (const PieceInfo& p : s.pieces.pieces)
+    pieces.push_back({{"role", toString(p.role)},
+                      {"vertices", p.vertices},
+                      {"faces", p.faces},
+                      {"area_m2", p.area},
+                      {"distance_m", p.distance}});
+  j["pieces"] = {{"kept", s.pieces.keptPieces},
+                 {"floor", s.pieces.floorPieces},
+                 {"floaters", s.pieces.floaterPieces},
+                 {"dropped_vertices", s.pieces.droppedVertices},
+                 {"dropped_area_m2", s.pieces.droppedArea},
+                 {"pieces", pieces}};
   j["seconds"] = {
       {"read", s.read.seconds}, {"cleanup", s.cleanup.seconds}, {"normalize", s.normalizeSeconds}};
   json warnings = json::array();
   for (const auto& w : s.read.warnings) warnings.push_back(w);
   for (const auto& w : s.cleanup.warnings) warnings.push_back(w);
+  for (const auto& w : s.normalize.warnings) warnings.push_back(w);
   j["warnings"] = warnings;
   return j;
 }

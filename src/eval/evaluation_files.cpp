@@ -2,7 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
+#include <cstring>
+
 #include "core/error.h"
+#include "eval/boundary_metrics.h"
 #include "io/read_ply.h"
 
 namespace fs = std::filesystem;
@@ -25,7 +29,68 @@ nlohmann::json parseJsonFile(const fs::path& path) {
   }
 }
 
+bool isPly(const fs::path& p) {
+  std::string ext = p.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".ply";
+}
+
+// A truth.json of a scan made outside the generator (../shared/testscans: "preset", "labels",
+// "onepiece", no "labelled_mesh"): its labelled scan is the PLY beside it, named after the
+// preset or after the file (NAME.truth.json → NAME.ply).
+bool isOutsideTruth(const nlohmann::json& j) {
+  return j.is_object() && !j.contains("labelled_mesh") && j.contains("labels") &&
+         j.contains("preset");
+}
+
+fs::path outsideTruthMesh(const fs::path& truth, const nlohmann::json& j) {
+  const fs::path dir = truth.parent_path();
+  if (j.at("preset").is_string()) {
+    const fs::path byPreset = dir / (j.at("preset").get<std::string>() + ".ply");
+    std::error_code ec;
+    if (fs::is_regular_file(byPreset, ec)) return byPreset;
+  }
+  std::string stem = truth.filename().string();
+  for (const char* suffix : {".truth.json", ".json"})
+    if (stem.size() > std::strlen(suffix) &&
+        stem.compare(stem.size() - std::strlen(suffix), std::string::npos, suffix) == 0) {
+      stem.resize(stem.size() - std::strlen(suffix));
+      break;
+    }
+  return dir / (stem + ".ply");
+}
+
 }  // namespace
+
+Truth readEvaluationTruth(const fs::path& path, fs::path* mesh) {
+  requireFile(path, "truth file");
+  Truth t;
+  fs::path m;
+  if (isPly(path)) {
+    t.preset = "custom";
+    m = path;
+  } else {
+    const nlohmann::json j = parseJsonFile(path);
+    if (!isOutsideTruth(j)) {
+      t = truthFromJson(j, path.string());
+      m = path.parent_path() / t.labelledMesh;
+    } else {
+      t.preset = j.at("preset").is_string() ? j.at("preset").get<std::string>() : "custom";
+      m = outsideTruthMesh(path, j);
+      if (j.value("onepiece", false)) {
+        TrueGarment g;
+        g.name = "onepiece";
+        g.label = Label::Upper;
+        g.onePiece = true;
+        t.garments.push_back(g);
+      }
+    }
+  }
+  t.labelledMesh = m.filename().string();
+  requireFile(m, fmt::format("labelled mesh of {}:", path.string()));
+  if (mesh) *mesh = m;
+  return t;
+}
 
 nlohmann::json readBodyJson(const fs::path& path) {
   return parseJsonFile(path);
@@ -42,10 +107,7 @@ EvaluationFiles resolveEvaluationFiles(const fs::path& truth, const fs::path& pr
                                        const fs::path& boundaries, const fs::path& body) {
   EvaluationFiles f;
   f.truth = truth;
-  requireFile(truth, "truth file");
-  const Truth t = readTruth(truth);
-  f.truthMesh = truth.parent_path() / t.labelledMesh;
-  requireFile(f.truthMesh, fmt::format("labelled mesh of {}:", truth.string()));
+  readEvaluationTruth(truth, &f.truthMesh);
   std::error_code ec;
   if (fs::is_directory(pred, ec)) {
     f.prediction = pred / "segmentation.ply";
@@ -79,8 +141,11 @@ EvaluationInput LoadedEvaluation::input() const {
 
 LoadedEvaluation loadEvaluation(const EvaluationFiles& files) {
   LoadedEvaluation e;
-  e.truth = readTruth(files.truth);
+  e.truth = readEvaluationTruth(files.truth);
   e.truthMesh = readLabelledMesh(files.truthMesh);
+  // A labelled scan without curves: its true boundaries are its label edges (a staircase at the
+  // scan's resolution).
+  if (e.truth.boundaries.empty()) e.truth.boundaries = extractLabelBoundaries(e.truthMesh);
   e.prediction = readLabelledMesh(files.prediction);
   if (!files.boundaries.empty()) e.boundaries = readBoundaries(files.boundaries);
   if (!files.body.empty()) e.body = readBodyJson(files.body);

@@ -21,11 +21,18 @@ struct EvaluationFiles {
 
 // Resolves PRED: a labelled PLY, or a folder holding segmentation.ply (and optionally
 // boundaries.json and body.json beside it, used unless given explicitly). Missing files →
-// IoError naming them. Reads truth.json only for the labelled mesh's path.
+// IoError naming them. Reads the truth only for the labelled mesh's path (readEvaluationTruth).
 EvaluationFiles resolveEvaluationFiles(const std::filesystem::path& truth,
                                        const std::filesystem::path& pred,
                                        const std::filesystem::path& boundaries = {},
                                        const std::filesystem::path& body = {});
+
+// The truth of an evaluation and the path of its labelled mesh: a synthetic scan's truth.json;
+// a truth.json of a scan made outside the generator ("preset", "labels", "onepiece", no
+// "labelled_mesh", as ../shared/testscans: the labelled PLY beside it, NAME.truth.json →
+// NAME.ply or PRESET.ply); or a labelled PLY itself (preset "custom", no boundaries, two-piece).
+// Missing files → IoError, bad JSON → FormatError.
+Truth readEvaluationTruth(const std::filesystem::path& path, std::filesystem::path* mesh = nullptr);
 
 // A body JSON (body.json of `scan2pattern body` or the fitter): missing → IoError, not JSON →
 // FormatError. Its content is checked by compareBodies.

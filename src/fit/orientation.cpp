@@ -171,12 +171,15 @@ Orientation estimateOrientation(const TriMesh& scan, const OrientationOptions& o
                      fmt2(opt.minHeight) + "–" + fmt2(opt.maxHeight) +
                      " m expected); check the units (metres) and that +Y is up");
   // Upside down: most surface lies above mid-height for a standing person (torso, arms and
-  // head up, thin legs below) and the two feet make the lowest slab wider than the head top.
+  // head up, thin legs below) and the two feet make the lowest slab wider than the head top. A
+  // long or A-line skirt or dress moves the centroid far down, but its wearer's head top stays
+  // much narrower than the feet (or hem): a low centroid alone counts only when the top end is
+  // not clearly the narrower one.
   const double centroid = (mean.y() - s.y0) / s.height;
   const Slab bottom = slab(s, 0.0, 0.04), top = slab(s, 0.96, 1.0);
   const double bottomSpan = bottom.weight > 0 ? (bottom.max - bottom.min).norm() : 0;
   const double topSpan = top.weight > 0 ? (top.max - top.min).norm() : 0;
-  if (centroid < 0.45 || (centroid < 0.5 && topSpan > bottomSpan))
+  if ((centroid < 0.45 && topSpan > 0.7 * bottomSpan) || (centroid < 0.5 && topSpan > bottomSpan))
     throw InputError(what + " looks upside down: the surface centroid is at " +
                      fmt2(100 * centroid) + " % of the height and the top end is " +
                      (topSpan > bottomSpan ? "wider" : "narrower") +

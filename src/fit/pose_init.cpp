@@ -2,8 +2,11 @@
 
 #include <ceres/ceres.h>
 
+#include <nanoflann.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -20,11 +23,71 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Vertex adjacency with edge lengths (CSR), from the faces.
+// Vertex adjacency with edge lengths (CSR), from the faces, plus bridges between pieces.
 struct Graph {
   std::vector<int> start, nbr;
   std::vector<double> len;
 };
+
+// nanoflann view of some vertices of a mesh.
+struct VertexCloud {
+  const Eigen::MatrixX3d* V = nullptr;
+  std::vector<int> index;
+  size_t kdtree_get_point_count() const { return index.size(); }
+  double kdtree_get_pt(size_t i, size_t d) const {
+    return (*V)(index[i], static_cast<Eigen::Index>(d));
+  }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using VertexTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, VertexCloud>,
+                                        VertexCloud, 3, std::uint32_t>;
+
+// A scan in pieces (legs seen apart below a skirt, a hand or feet scanned apart): each piece of
+// at least kMinBridgedVertices is joined to the nearest vertex of the larger pieces by one edge
+// of that length, largest first, so that the geodesic walk from the torso reaches the feet.
+// Appends the bridges to `e` (both directions).
+void bridgePieces(const TriMesh& m, std::vector<std::pair<int, int>>& e) {
+  constexpr int kMinBridgedVertices = 20;
+  const int n = m.numVertices();
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const auto& [a, b] : e) parent[find(a)] = find(b);
+  std::unordered_map<int, std::vector<int>> pieces;
+  for (int v = 0; v < n; ++v) pieces[find(v)].push_back(v);
+  if (pieces.size() < 2) return;
+  std::vector<const std::vector<int>*> order;
+  for (const auto& [root, verts] : pieces)
+    if (static_cast<int>(verts.size()) >= kMinBridgedVertices) order.push_back(&verts);
+  std::sort(order.begin(), order.end(), [](auto* a, auto* b) {
+    return a->size() != b->size() ? a->size() > b->size() : a->front() < b->front();
+  });
+  VertexCloud cloud{&m.V, {}};
+  for (size_t i = 0; i < order.size(); ++i) {
+    if (i > 0) {
+      const VertexTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+      double best = kInf;
+      int from = -1, to = -1;
+      for (int v : *order[i]) {
+        const Eigen::Vector3d q = m.V.row(v).transpose();
+        std::uint32_t j = 0;
+        double d2 = 0;
+        tree.knnSearch(q.data(), 1, &j, &d2);
+        if (d2 < best) best = d2, from = v, to = cloud.index[j];
+      }
+      e.emplace_back(from, to);
+      e.emplace_back(to, from);
+    }
+    cloud.index.insert(cloud.index.end(), order[i]->begin(), order[i]->end());
+  }
+}
 
 Graph buildGraph(const TriMesh& m) {
   const int n = m.numVertices();
@@ -36,6 +99,7 @@ Graph buildGraph(const TriMesh& m) {
       e.emplace_back(a, b);
       e.emplace_back(b, a);
     }
+  bridgePieces(m, e);
   std::sort(e.begin(), e.end());
   e.erase(std::unique(e.begin(), e.end()), e.end());
   Graph g;

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/mesh_query.h"
+#include "core/stage_error.h"
 
 namespace s2p {
 namespace {
@@ -32,7 +33,13 @@ class Steps {
         if (s.progress_) s.progress_->end();
       }
     } end{*this, name, t};
-    return f();
+    try {
+      return f();
+    } catch (const SolverError& e) {
+      throw stageSolverError(e, "body fit, " + name, "the body model and the scan",
+                             "check the scan with `scan2pattern info` (pieces, holes), or give "
+                             "keypoints (--keypoints) for a better start");
+    }
   }
 
  private:

@@ -1,16 +1,56 @@
 #include "segment/biharmonic.h"
 
+#include <nanoflann.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <string>
 
 #include "core/error.h"
 #include "core/laplacian.h"
+#include "core/mesh_topology.h"
 #include "core/spd_solver.h"
 
 namespace s2p {
 
 using Sparse = Eigen::SparseMatrix<double>;
+
+namespace {
+
+// nanoflann view of the vertices of the constrained pieces.
+struct PointCloud {
+  const Eigen::MatrixX3d* V = nullptr;
+  const std::vector<int>* index = nullptr;
+  size_t kdtree_get_point_count() const { return index->size(); }
+  double kdtree_get_pt(size_t i, size_t d) const {
+    return (*V)((*index)[i], static_cast<Eigen::Index>(d));
+  }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
+                                                   PointCloud, 3, std::uint32_t>;
+
+// The rows and columns of A whose flag is set (A restricted to some pieces: block diagonal, so
+// the restriction is the pieces' own system).
+Sparse restricted(const Sparse& A, const std::vector<int>& newIndex, int n) {
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<size_t>(A.nonZeros()));
+  for (int k = 0; k < A.outerSize(); ++k)
+    for (Sparse::InnerIterator it(A, k); it; ++it) {
+      const int r = newIndex[it.row()], c = newIndex[it.col()];
+      if (r >= 0 && c >= 0) t.emplace_back(r, c, it.value());
+    }
+  Sparse out(n, n);
+  out.setFromTriplets(t.begin(), t.end());
+  return out;
+}
+
+}  // namespace
 
 struct Biharmonic::Impl {
   TriMesh mesh;
@@ -19,6 +59,9 @@ struct Biharmonic::Impl {
   double w = 0;  // penalty weight
   SpdSolver solver;
   bool analysed = false;
+  std::vector<char> factoredPieces;  // per piece: part of the analysed system
+  Eigen::VectorXi vertexPiece;       // #V: connected component
+  int numPieces = 0;
   BiharmonicStats stats;
 };
 
@@ -56,6 +99,11 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
   for (int v = 0; v < nV; ++v) R.insert(v, v) = eps * area[v];
   d.Q = LML + P + R;
   d.w = options.penaltyWeight * d.Q.diagonal().mean();
+  const MeshTopology topo(mesh.F, nV);
+  d.numPieces = topo.numComponents();
+  d.vertexPiece.resize(nV);
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) d.vertexPiece[mesh.F(f, k)] = topo.faceComponent()[f];
 }
 
 Biharmonic::~Biharmonic() = default;
@@ -88,13 +136,25 @@ Eigen::VectorXd Biharmonic::solve(const std::vector<ValueConstraint>& constraint
       if (c.point.bary[j] != 0) ct.emplace_back(i, m.F(c.point.face, j), c.point.bary[j]);
     v[i] = c.value;
   }
-  Sparse C(k, nV);
+  // Pieces of the mesh (a scan in pieces, or what earlier cuts left) are solved together when
+  // each holds a constraint; a piece holding none is left out of the system (L M⁻¹ L is singular
+  // there: constants cost nothing) and takes the value at the nearest vertex of a constrained
+  // piece, as if φ carried on across the gap.
+  std::vector<char> constrained(d.numPieces, 0);
+  for (const ValueConstraint& c : constraints) constrained[d.vertexPiece[m.F(c.point.face, 0)]] = 1;
+  std::vector<int> newIndex(nV, -1);
+  int n = 0;
+  for (int v = 0; v < nV; ++v)
+    if (constrained[d.vertexPiece[v]]) newIndex[v] = n++;
+  const bool all = n == nV;
+  for (auto& t : ct) t = Eigen::Triplet<double>(t.row(), newIndex[t.col()], t.value());
+  Sparse C(k, n);
   C.setFromTriplets(ct.begin(), ct.end());
   const Sparse Ct = C.transpose();
-  const Sparse A = d.Q + d.w * Sparse(Ct * C);
+  const Sparse A = (all ? d.Q : restricted(d.Q, newIndex, n)) + d.w * Sparse(Ct * C);
 
   d.stats = {};
-  if (d.analysed && d.solver.rows() == nV) {
+  if (d.analysed && d.factoredPieces == constrained) {
     try {
       d.solver.refactor(A);
       d.stats.refactored = true;
@@ -104,19 +164,49 @@ Eigen::VectorXd Biharmonic::solve(const std::vector<ValueConstraint>& constraint
   } else {
     d.solver.compute(A);
     d.analysed = true;
+    d.factoredPieces = constrained;
   }
 
   // Augmented Lagrangian: (Q + wCᵀC)u = Cᵀ(wv − y), y += w(Cu − v).
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(k), u;
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(k), x;
   const double scale = std::max(1.0, v.cwiseAbs().maxCoeff());
   for (int it = 0; it < d.options.maxMultiplierUpdates; ++it) {
-    u = d.solver.solve(Eigen::VectorXd(Ct * (d.w * v - y)));
-    const Eigen::VectorXd r = C * u - v;
+    x = d.solver.solve(Eigen::VectorXd(Ct * (d.w * v - y)));
+    const Eigen::VectorXd r = C * x - v;
     d.stats.multiplierUpdates = it + 1;
     d.stats.maxResidual = r.cwiseAbs().maxCoeff();
     if (d.stats.maxResidual <= d.options.tolerance * scale) break;
     y += d.w * r;
   }
+  if (all) return x;
+  Eigen::VectorXd u(nV);
+  std::vector<int> solved;
+  solved.reserve(static_cast<size_t>(n));
+  for (int vtx = 0; vtx < nV; ++vtx)
+    if (newIndex[vtx] >= 0) {
+      u[vtx] = x[newIndex[vtx]];
+      solved.push_back(vtx);
+    }
+  d.stats.unconstrainedPieces = 0;
+  for (char c : constrained) d.stats.unconstrainedPieces += !c;
+  const PointCloud cloud{&m.V, &solved};
+  const KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  std::vector<double> best(d.numPieces, std::numeric_limits<double>::infinity());
+  std::vector<double> value(d.numPieces, 0.0);
+  for (int vtx = 0; vtx < nV; ++vtx) {
+    const int p = d.vertexPiece[vtx];
+    if (constrained[p]) continue;
+    const Eigen::Vector3d q = m.V.row(vtx).transpose();
+    std::uint32_t i = 0;
+    double dist = 0;
+    tree.knnSearch(q.data(), 1, &i, &dist);
+    if (dist < best[p]) {
+      best[p] = dist;
+      value[p] = u[solved[i]];
+    }
+  }
+  for (int vtx = 0; vtx < nV; ++vtx)
+    if (!constrained[d.vertexPiece[vtx]]) u[vtx] = value[d.vertexPiece[vtx]];
   return u;
 }
 

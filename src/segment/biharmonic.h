@@ -35,19 +35,22 @@ struct BiharmonicStats {
   int multiplierUpdates = 0;
   double maxResidual = 0;   // max |Cu − v| reached
   bool refactored = false;  // numeric refactorisation only (symbolic analysis reused)
+  int unconstrainedPieces = 0;  // pieces holding no constraint: the nearest solved value
 };
 
 class Biharmonic {
  public:
-  // Builds L M⁻¹ L (+ 1e-8/diag⁴ · M to fix components without constraints at 0). Throws
+  // Builds L M⁻¹ L (+ a tiny mass term, relative to its scale) and finds the mesh's pieces. Throws
   // InputError for an invalid mesh or a vertex referenced by no face.
   explicit Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options = {});
   ~Biharmonic();
   Biharmonic(Biharmonic&&) noexcept;
   Biharmonic& operator=(Biharmonic&&) noexcept;
 
-  // φ_b, #V. Throws InputError for no constraints, a face out of range or non-finite or
-  // non-normalised barycentric weights; SolverError when the factorisation fails.
+  // φ_b, #V. The pieces (connected components) holding constraints are solved; a piece holding
+  // none takes the value at the nearest vertex of a solved piece (a constant: it lies on that
+  // side of every curve). Throws InputError for no constraints, a face out of range or
+  // non-finite or non-normalised barycentric weights; SolverError when the factorisation fails.
   Eigen::VectorXd solve(const std::vector<ValueConstraint>& constraints);
   const BiharmonicStats& lastStats() const;
 

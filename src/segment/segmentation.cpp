@@ -13,6 +13,7 @@
 #include "core/laplacian.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
+#include "core/stage_error.h"
 #include "segment/garment_completion.h"
 #include "segment/mesh_cut.h"
 #include "segment/surface_spline.h"
@@ -127,9 +128,17 @@ struct ProjectedCurve {
   std::vector<bool> closed;
   std::vector<Anchor> signs;
   int anchors = 0, droppedAnchors = 0, numSigns = 0, droppedSigns = 0;
+  int carriedSplines = 0, droppedSplines = 0;  // fallbacks of projectCurve
 };
 
-ProjectedCurve projectCurve(const FeatureProjector& projector, const CurveFeatures& curve) {
+// A spline that loses most of its anchors to Appendix B (or too many to draw it) is replaced by
+// the body's own loop carried onto the scan (every anchor's closest scan point), unless the loop
+// lies farther than `missingDistance` from the scan at most anchors (median): the body says the
+// limb is not there (a hand or foot the scan lacks) and the spline is dropped. The sign points
+// likewise: when none survives, all are carried by closest point. Each fallback is noted.
+ProjectedCurve projectCurve(const FeatureProjector& projector, const CurveFeatures& curve,
+                            const TriMesh& body, double missingDistance,
+                            std::vector<std::string>& notes) {
   ProjectedCurve out;
   out.name = curve.name;
   for (const FeatureSpline& s : curve.splines) {
@@ -140,24 +149,49 @@ ProjectedCurve projectCurve(const FeatureProjector& projector, const CurveFeatur
     out.anchors += static_cast<int>(p.size());
     out.droppedAnchors += static_cast<int>(p.size() - kept.size());
     const size_t need = s.closed ? 3 : 2;
-    if (kept.size() < need)
-      throw InputError(fmt::format(
-          "segmentation: spline '{}' of boundary {} kept {} of its {} anchors after the "
-          "ill-projection tests (Appendix B), {} needed; the body does not match the scan "
-          "there (check the body fit or the feature set)",
-          s.name, curve.name, kept.size(), p.size(), need));
+    if (kept.size() < need || 2 * kept.size() < p.size()) {
+      std::vector<double> gap;
+      for (size_t i = 0; i < p.size(); ++i) gap.push_back((s.anchors[i].position(body) - p[i].p).norm());
+      std::nth_element(gap.begin(), gap.begin() + gap.size() / 2, gap.end());
+      const double median = gap.empty() ? 0.0 : gap[gap.size() / 2];
+      if (p.size() < need || median > missingDistance) {
+        notes.push_back(fmt::format(
+            "spline '{}' of boundary {} dropped: {} of its {} anchors ill-projected (Appendix B) "
+            "and the fitted body's loop lies {:.0f} mm from the scan (median): the scan has no "
+            "limb there",
+            s.name, curve.name, p.size() - kept.size(), p.size(), 1000 * median));
+        ++out.droppedSplines;
+        continue;
+      }
+      notes.push_back(fmt::format(
+          "spline '{}' of boundary {}: {} of its {} anchors ill-projected (Appendix B); the "
+          "fitted body's own loop carried onto the scan instead (closest points, median {:.0f} mm)",
+          s.name, curve.name, p.size() - kept.size(), p.size(), 1000 * median));
+      ++out.carriedSplines;
+      kept.clear();
+      for (const ProjectedPoint& q : p) kept.push_back(q.p);
+    }
     Eigen::MatrixX3d A(static_cast<int>(kept.size()), 3);
     for (size_t i = 0; i < kept.size(); ++i) A.row(static_cast<int>(i)) = kept[i].transpose();
     out.splines.push_back(A);
     out.closed.push_back(s.closed);
   }
+  std::vector<Anchor> carried;
   for (const SignPoint& s : curve.signs) {
     const ProjectedPoint q = projector.project(s.point);
     ++out.numSigns;
+    carried.push_back({q.p, s.value});
     if (q.ok())
       out.signs.push_back({q.p, s.value});
     else
       ++out.droppedSigns;
+  }
+  if (out.signs.empty() && !carried.empty()) {
+    notes.push_back(fmt::format(
+        "boundary {}: all {} sign points ill-projected (Appendix B); carried onto the scan by "
+        "closest point instead",
+        curve.name, carried.size()));
+    out.signs = std::move(carried);
   }
   return out;
 }
@@ -339,9 +373,10 @@ class Segmenter {
     popt.bodyLength = height_;
     progress_.begin("project features");
     const FeatureProjector projector(body, scan, popt);
-    upperSkin_ = projectCurve(projector, features.upperSkin);
-    lowerSkin_ = projectCurve(projector, features.lowerSkin);
-    upperLower_ = projectCurve(projector, features.upperLower);
+    const double missing = kLimbMissingFraction * height_;
+    upperSkin_ = projectCurve(projector, features.upperSkin, body, missing, projectionNotes_);
+    lowerSkin_ = projectCurve(projector, features.lowerSkin, body, missing, projectionNotes_);
+    upperLower_ = projectCurve(projector, features.upperLower, body, missing, projectionNotes_);
     projectRegions(projector, features, colour);
     progress_.end();
 
@@ -355,6 +390,7 @@ class Segmenter {
   Segmentation run() {
     const auto t0 = Clock::now();
     Segmentation out;
+    out.notes = projectionNotes_;
     decideLayout(out);
     // The chest is covered by any top; the hips are not when the top is worn untucked, and their
     // points then teach the lower model the top's colours.
@@ -426,6 +462,7 @@ class Segmenter {
     out.vertexLabel = labels.vertexLabels(scan_, out.faceLabel);
     out.regionPoints = regionPoints_;
     out.droppedRegionPoints = droppedRegionPoints_;
+    for (const std::string& n : skipNotes_) out.notes.push_back(n);
     for (const BoundaryReport& b : out.boundaries)
       if (!b.converged)
         out.notes.push_back(fmt::format("boundary {} did not converge in {} iterations", b.name,
@@ -436,6 +473,9 @@ class Segmenter {
 
  private:
   static constexpr int kSkin = 0, kUpper = 1, kLower = 2, kFoot = 3;
+  // A body loop farther than this fraction of the height from the scan (median over its
+  // anchors) is a limb the scan does not have (projectCurve).
+  static constexpr double kLimbMissingFraction = 0.05;
 
   void projectRegions(const FeatureProjector& projector, const FeatureSet& features,
                       const Eigen::MatrixX3d& colour) {
@@ -578,7 +618,22 @@ class Segmenter {
     return out;
   }
 
+  // optimiseAndCutOnce with a solver's failure restated: which boundary, on what, what to do.
   std::pair<BoundaryRun, CutResult> optimiseAndCut(const Stage& stage, const BoundaryJob& job) {
+    try {
+      return optimiseAndCutOnce(stage, job);
+    } catch (const SolverError& e) {
+      const int pieces = MeshTopology(stage.mesh.F, stage.mesh.numVertices()).numComponents();
+      throw stageSolverError(
+          e, "segmentation, boundary " + job.curve->name,
+          fmt::format("the {} vertices left of the scan ({} {})", stage.mesh.numVertices(), pieces,
+                      pieces == 1 ? "piece" : "pieces"),
+          "the scan may hold slivers or pieces without area: check it with `scan2pattern info`, "
+          "clean or remesh it, and try again");
+    }
+  }
+
+  std::pair<BoundaryRun, CutResult> optimiseAndCutOnce(const Stage& stage, const BoundaryJob& job) {
     const auto t0 = Clock::now();
     const ProjectedCurve& curve = *job.curve;
     progress_.begin(fmt::format("boundary {}", curve.name));
@@ -592,17 +647,26 @@ class Segmenter {
     rep.signs = curve.numSigns;
     rep.droppedSigns = curve.droppedSigns;
     const Located f = locateFeatures(stage, curve);
-    if (f.splines.empty())
-      throw InputError(fmt::format(
-          "segmentation: no spline of boundary {} lies on what the earlier cuts left of the scan",
-          curve.name));
     int pos = 0, neg = 0;
     for (const ValueConstraint& c : f.signs) (c.value > 0 ? pos : neg)++;
-    if (pos + neg == 0)
-      throw InputError(fmt::format(
-          "segmentation: boundary {} has {} positive and {} negative sign points on what is left "
-          "of the scan ({} of {} dropped as ill-projected); at least one is needed",
-          curve.name, pos, neg, curve.droppedSigns, curve.numSigns));
+    if (f.splines.empty() || pos + neg == 0) {
+      // Nothing to start this boundary from on what is left of the scan: it is skipped and the
+      // whole stage stays on the garment side, rather than stopping the run.
+      rep.skipped = true;
+      skipNotes_.push_back(fmt::format(
+          "boundary {} skipped: {} on what the earlier cuts left of the scan ({} of {} splines "
+          "dropped, {} of {} sign points ill-projected); nothing cut away there",
+          curve.name, f.splines.empty() ? "no spline lies" : "no sign point lies",
+          curve.droppedSplines, curve.splines.size() + curve.droppedSplines, curve.droppedSigns,
+          curve.numSigns));
+      run.result.phi0 = run.result.phi = Eigen::VectorXd::Constant(stage.mesh.numVertices(), -1.0);
+      run.result.converged = true;
+      CutResult cut = cutAlongIsoline(stage.mesh, run.result.phi);
+      rep.converged = true;
+      rep.seconds = secondsSince(t0);
+      progress_.end();
+      return {std::move(run), std::move(cut)};
+    }
     std::vector<GaussianMixture> models;
     for (int r : job.regions) models.push_back(colours_.models[r]);
     const Eigen::VectorXd phiD =
@@ -810,6 +874,8 @@ class Segmenter {
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;
   std::unique_ptr<MeshQuery> bodyQuery_;
+  std::vector<std::string> projectionNotes_;  // fallbacks of the feature projection
+  std::vector<std::string> skipNotes_;        // boundaries skipped (optimiseAndCut)
 };
 
 }  // namespace
@@ -818,8 +884,15 @@ Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, co
                          const FeatureSet& features, const SegmentationOptions& options,
                          Progress* progress) {
   Progress& p = progress ? *progress : Progress::silent();
-  Segmenter s(scan, colour, body, features, options, p);
-  return s.run();
+  try {
+    Segmenter s(scan, colour, body, features, options, p);
+    return s.run();
+  } catch (const SolverError& e) {
+    if (std::string(e.what()).rfind("segmentation", 0) == 0) throw;  // already restated
+    throw stageSolverError(e, "segmentation", fmt::format("the {}-vertex scan", scan.numVertices()),
+                           "check the scan with `scan2pattern info`, clean or remesh it, and try "
+                           "again");
+  }
 }
 
 Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,

@@ -87,6 +87,7 @@ struct BoundaryReport {
   int iterations = 0;  // of the pass kept
   bool converged = false;
   bool vanished = false;    // the zero set disappeared: one side took the whole mesh
+  bool skipped = false;     // no spline or sign point on what was left: nothing cut (a note says why)
   bool gapPass = false;     // the Eq. 6 pass was run
   bool gapApplied = false;  // ... and its boundary was kept
   double gapShift = 0;      // 95th percentile distance (m) between the two passes' boundaries
@@ -124,9 +125,12 @@ struct Segmentation {
 
 // Segments `scan` (colour: #V×3 sRGB in [0, 1]) with the posed body mesh `body` that carries
 // `features` (surface points on body faces; the fully fitted body of §5.1.2 or the true body).
-// Throws InputError for a scan without colour, a body that does not overlap the scan, or a
-// spline of which every anchor was ill-projected (naming it); TopologyError for a scan the
-// isolines cannot be traced on (non-manifold crossed edges).
+// A spline that loses most of its anchors to Appendix B is replaced by the body's loop carried
+// onto the scan, or dropped when the body's loop is far from the scan (a limb the scan lacks); a
+// boundary with no spline or sign point left is skipped; each with a note. Throws InputError
+// for a scan without colour or a body that does not overlap the scan; TopologyError for a scan
+// the isolines cannot be traced on (non-manifold crossed edges); SolverError naming the boundary
+// when a system cannot be solved.
 Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
                          const FeatureSet& features, const SegmentationOptions& options = {},
                          Progress* progress = nullptr);

@@ -94,6 +94,34 @@ TEST(Orientation, RefusesUpsideDown) {
   }
 }
 
+// A person in a long A-line dress: a cone from the hips (56 % of the height, as wide as the
+// hips) down to 10 cm above the floor, its hem 1.1 m across, wider than the shoulders. Its area
+// pulls the surface centroid below 45 % of the height, but the head top is far narrower than
+// the feet end: not upside down.
+TEST(Orientation, PersonInAnALineDressIsNotUpsideDown) {
+  const TriMesh body = posed(TestPose::Rest);
+  const BoundingBox box = boundingBox(body.V);
+  const double H = box.extent().y(), top = box.min.y() + 0.56 * H, bottom = box.min.y() + 0.1;
+  TriMesh dress = makeCylinder(40, 64, 1.0, 1.0);  // y in [0, 1]: 0 the hem, 1 the hips
+  for (int v = 0; v < dress.numVertices(); ++v) {
+    const double t = dress.V(v, 1), r = 0.55 + (0.19 - 0.55) * t;
+    dress.V.row(v) << r * dress.V(v, 0), bottom + t * (top - bottom), r * dress.V(v, 2);
+  }
+  TriMesh scan = body;
+  scan.V.conservativeResize(body.numVertices() + dress.numVertices(), 3);
+  scan.V.bottomRows(dress.numVertices()) = dress.V;
+  scan.F.conservativeResize(body.numFaces() + dress.numFaces(), 3);
+  scan.F.bottomRows(dress.numFaces()) = dress.F.array() + body.numVertices();
+  const double area = surfaceArea(scan);
+  double centroid = 0;
+  const Eigen::VectorXd a = faceAreas(scan);
+  for (int f = 0; f < scan.numFaces(); ++f)
+    centroid += a[f] * (scan.V(scan.F(f, 0), 1) + scan.V(scan.F(f, 1), 1) + scan.V(scan.F(f, 2), 1)) / 3;
+  centroid = (centroid / area - box.min.y()) / H;
+  ASSERT_LT(centroid, 0.45) << "the dress must pull the centroid below the old threshold";
+  EXPECT_NO_THROW(estimateOrientation(scan));
+}
+
 TEST(Orientation, RefusesSphereTinyMeshAndWrongUnits) {
   EXPECT_THROW(estimateOrientation(makeIcosphere(3, 0.8)), InputError);
   EXPECT_THROW(estimateOrientation(makeIcosphere(0, 0.9)), InputError);  // 12 vertices

@@ -67,9 +67,10 @@ TEST(Biharmonic, EqualConstraintValuesGiveThatConstant) {
   EXPECT_LT((u.array() - 0.7).abs().maxCoeff(), 1e-6);
 }
 
-// A piece of the mesh with no constraint (an island a previous cut left) does not break the
-// factorisation: it gets zero, and the constrained piece its exact constant.
-TEST(Biharmonic, UnconstrainedPieceGetsZero) {
+// A piece of the mesh with no constraint (an island a previous cut left, legs scanned apart
+// under a skirt) does not break the factorisation: it takes the value of the nearest solved
+// vertex, and the constrained piece its exact constant.
+TEST(Biharmonic, UnconstrainedPieceTakesTheNearestSolvedValue) {
   const TriMesh a = makeGrid(12, 12);
   TriMesh two = a;
   two.V.conservativeResize(2 * a.numVertices(), 3);
@@ -78,9 +79,63 @@ TEST(Biharmonic, UnconstrainedPieceGetsZero) {
   two.F.bottomRows(a.numFaces()) = a.F.array() + a.numVertices();
   const std::vector<ValueConstraint> c = {{SurfacePoint{3, {0.2, 0.3, 0.5}}, 0.7},
                                           {SurfacePoint{100, {0.3, 0.3, 0.4}}, 0.7}};
-  const Eigen::VectorXd u = biharmonicFunction(two, c);
+  Biharmonic b(two);
+  const Eigen::VectorXd u = b.solve(c);
   EXPECT_LT((u.head(a.numVertices()).array() - 0.7).abs().maxCoeff(), 1e-6);
-  EXPECT_LT(u.tail(a.numVertices()).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((u.tail(a.numVertices()).array() - 0.7).abs().maxCoeff(), 1e-6);
+  EXPECT_EQ(b.lastStats().unconstrainedPieces, 1);
+}
+
+// Three disconnected pieces (a scan in pieces): two cylinders, each with its own zero ring and
+// sign points, and a sphere with none beside the first cylinder's top. Each cylinder's zero set
+// is its own ring, the sphere takes the positive side it sits next to, and a second solve with
+// the same pieces constrained only refactors.
+TEST(Biharmonic, ThreeDisconnectedPiecesSolveEachOnItsOwn) {
+  const double r = 0.15;
+  const TriMesh cyl = makeCylinder(40, 32, r, 1.0);
+  TriMesh ball = makeIcosphere(2, 0.1);
+  ball.V.rowwise() += Eigen::RowVector3d(0, 1.2, 0);  // above the first cylinder's top
+  TriMesh second = cyl;
+  second.V.rowwise() += Eigen::RowVector3d(1.0, 0, 0);
+  TriMesh three = cyl;
+  for (const TriMesh* m : {&second, &ball}) {
+    const int nv = three.numVertices(), nf = three.numFaces();
+    three.V.conservativeResize(nv + m->numVertices(), 3);
+    three.V.bottomRows(m->numVertices()) = m->V;
+    three.F.conservativeResize(nf + m->numFaces(), 3);
+    three.F.bottomRows(m->numFaces()) = m->F.array() + nv;
+  }
+  const MeshQuery q(three);
+  const double y0 = 0.437, y1 = 0.61;
+  std::vector<ValueConstraint> c;
+  for (int i = 0; i < 17; ++i) {
+    const double t = 2 * M_PI * (i + 0.3) / 17;
+    c.push_back(at(q, {r * std::cos(t), y0, r * std::sin(t)}, 0.0));
+    c.push_back(at(q, {1.0 + r * std::cos(t), y1, r * std::sin(t)}, 0.0));
+  }
+  c.push_back(at(q, {r, 0.95, 0}, 1.0));
+  c.push_back(at(q, {-r, 0.05, 0}, -1.0));
+  c.push_back(at(q, {1.0 + r, 0.95, 0}, 1.0));
+  c.push_back(at(q, {1.0 - r, 0.05, 0}, -1.0));
+  Biharmonic b(three);
+  const Eigen::VectorXd phi = b.solve(c);
+  ASSERT_TRUE(phi.allFinite());
+  EXPECT_EQ(b.lastStats().unconstrainedPieces, 1);
+  const Isoline iso = extractIsoline(three, phi);
+  ASSERT_EQ(iso.curves.size(), 2u);
+  for (const IsolineCurve& curve : iso.curves) {
+    EXPECT_TRUE(curve.closed);
+    const bool first = curve.points.front().position.x() < 0.5;
+    for (const auto& p : curve.points) EXPECT_NEAR(p.position.y(), first ? y0 : y1, 0.01 * r);
+  }
+  const int nc = cyl.numVertices();
+  for (int v = 2 * nc; v < three.numVertices(); ++v) EXPECT_GT(phi[v], 0.5) << v;
+  for (int v = 0; v < 2 * nc; ++v)
+    if (std::abs(three.V(v, 1) - (v < nc ? y0 : y1)) > 0.05)
+      EXPECT_EQ(phi[v] > 0, three.V(v, 1) > (v < nc ? y0 : y1)) << v;
+  c.back().value = -0.5;
+  b.solve(c);
+  EXPECT_TRUE(b.lastStats().refactored);
 }
 
 TEST(Biharmonic, BadConstraintsThrowInputError) {

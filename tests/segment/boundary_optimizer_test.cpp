@@ -103,6 +103,45 @@ TEST(BoundaryOptimizer, TwoColourCylinderConvergesToTheColourEdge) {
   }
 }
 
+// A scan in pieces: the two-colour cylinder, a second one beside it (its own start ring and sign
+// points) and a blue ball with no feature at all under the first (legs seen apart under a skirt
+// have none for B(U|S)). Every system (M + βL, the biharmonic, the signed distances) solves on
+// the three pieces; both cylinders' boundaries reach the colour edge and the ball stays whole on
+// the negative side it sits next to.
+TEST(BoundaryOptimizer, ThreeDisconnectedPiecesEachReachItsColourEdge) {
+  const CylinderCase a = twoColourCylinder(137, 48, 1.0);
+  TriMesh ball = makeIcosphere(3, 0.08);
+  ball.V.rowwise() += Eigen::RowVector3d(0, -0.12, 0);
+  TriMesh m = a.mesh;
+  for (const TriMesh* piece : {&a.mesh, static_cast<const TriMesh*>(&ball)}) {
+    const int nv = m.numVertices(), nf = m.numFaces();
+    m.V.conservativeResize(nv + piece->numVertices(), 3);
+    m.V.bottomRows(piece->numVertices()) = piece->V;
+    if (piece == &a.mesh) m.V.bottomRows(piece->numVertices()).col(0).array() += 0.5;
+    m.F.conservativeResize(nf + piece->numFaces(), 3);
+    m.F.bottomRows(piece->numFaces()) = piece->F.array() + nv;
+  }
+  const MeshQuery q(m);
+  std::vector<std::vector<SurfacePoint>> splines = {ring(q, 0, 0.45, 0.1, 12),
+                                                    ring(q, 0.5, 0.45, 0.1, 12)};
+  std::vector<ValueConstraint> signs;
+  for (const double cx : {0.0, 0.5}) {
+    addSigns(signs, q, cx, 0.95, 0.1, 1.0);
+    addSigns(signs, q, cx, 0.05, 0.1, -1.0);
+  }
+  const Eigen::VectorXd phiD = twoColourDisplacement(
+      m, [](double y) { return y >= 0.3; }, 0.3);
+  const BoundaryResult r = optimizeBoundary(m, splines, signs, phiD);
+  EXPECT_TRUE(r.converged);
+  EXPECT_FALSE(r.vanished);
+  ASSERT_TRUE(r.phi.allFinite());
+  ASSERT_EQ(r.boundary.curves.size(), 2u);
+  for (const auto& c : r.boundary.curves)
+    for (const auto& p : c.points) EXPECT_NEAR(p.position.y(), 0.3, 0.005);
+  const int nc = a.mesh.numVertices();
+  for (int v = 2 * nc; v < m.numVertices(); ++v) ASSERT_LT(r.phi[v], 0) << v;
+}
+
 TEST(BoundaryOptimizer, SameBoundaryAtTwoResolutionsAndScaledTwice_Slow) {
   const CylinderCase fine = twoColourCylinder(137, 48, 1.0);
   const CylinderCase coarse = twoColourCylinder(91, 32, 1.0);
