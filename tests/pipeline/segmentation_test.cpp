@@ -177,15 +177,14 @@ TEST(Segmentation, BadInputIsRefusedWithClearErrors) {
   TriMesh far = c.body.posed.mesh;
   far.V.col(0).array() += 10.0;
   EXPECT_THROW(segmentScan(scan, colour, far, c.body.features), InputError);
-  // Every anchor of the neck spline removed: the error names the spline.
+  // Every anchor of the neck spline removed: the run goes on (issue 17: the body's own loop is
+  // carried onto the scan, or the loop dropped) and a note names the spline.
   FeatureSet noNeck = c.body.features;
   noNeck.upperSkin.splines[0].anchors.clear();
-  try {
-    segmentScan(scan, colour, c.body.posed.mesh, noNeck);
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("neck"), std::string::npos) << e.what();
-  }
+  const Segmentation seg = segmentScan(scan, colour, c.body.posed.mesh, noNeck);
+  bool named = false;
+  for (const std::string& n : seg.notes) named |= n.find("neck") != std::string::npos;
+  EXPECT_TRUE(named) << ::testing::PrintToString(seg.notes);
 }
 
 }  // namespace
