@@ -363,9 +363,11 @@ void printFlatPattern(const PanelsResult& panels, const FlatPatternResult& flat)
     worstP95 = std::max({worstP95, fp.metrics.warp.p95, fp.metrics.weft.p95});
     minAngle = std::min(minAngle, fp.remeshed.minAngleDeg);
   }
-  for (const SeamPair& s : flat.seams) worstPair = std::max(worstPair, std::abs(s.lengthA - s.lengthB));
+  for (const SeamPair& s : flat.seams)
+    if (flat.panels[s.panelA].error.empty() && flat.panels[s.panelB].error.empty())
+      worstPair = std::max(worstPair, std::abs(s.lengthA - s.lengthB));
   fmt::print("flattened {} of {} panels in {:.2f} s: warp/weft strain p95 ≤ {:.1f} %, stitched "
-             "pairs within {:.1f} mm, remeshed min angle {:.1f}°\n",
+             "pairs of flattened panels within {:.1f} mm, remeshed min angle {:.1f}°\n",
              ok, panels.panels.size(), flat.seconds, 100 * worstP95, 1000 * worstPair, minAngle);
   for (const std::string& w : flat.warnings) fmt::print("  warning: {}\n", w);
 }

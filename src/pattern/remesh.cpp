@@ -168,9 +168,13 @@ RemeshedPanel remeshPanel(const std::vector<Eigen::MatrixX2d>& edges, const std:
   const Criteria criteria(sine * sine, options.targetEdgeLength);
   if (options.allowBoundarySteiner) {
     CGAL::Delaunay_mesher_2<Cdt, Criteria> mesher(cdt, criteria);
+    mesher.clear_seeds();  // as below: seeds_mark is otherwise read uninitialised
     mesher.refine_mesh();
   } else {
     CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, Criteria> mesher(cdt, criteria);
+    // CGAL 5.5 leaves this mesher's seeds_mark uninitialised until seeds are set or cleared
+    // (its refine_mesh reads it: undefined behaviour, caught by UBSan): clear them first.
+    mesher.clear_seeds();
     mesher.refine_mesh();
   }
 
