@@ -27,15 +27,6 @@ struct PanelsCommand {
   LoadOptions load;
 };
 
-json readJson(const fs::path& path, const std::string& what) {
-  std::ifstream in(path);
-  if (!in) throw IoError(fmt::format("cannot read {} {}", what, path.string()));
-  try {
-    return json::parse(in);
-  } catch (const json::exception& e) {
-    throw FormatError(fmt::format("{} {} is not JSON: {}", what, path.string(), e.what()));
-  }
-}
 
 // A garment OBJ written by `segment`, back in the normalised frame, with the vertices an OBJ
 // reader split per corner joined again (exact positions: the file holds each vertex once).
@@ -66,10 +57,10 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   json bodyJson;
   fs::path bodyDir;
   if (!cmd.body.empty()) {
-    bodyJson = readJson(cmd.body, "body file");
+    bodyJson = readJsonFile(cmd.body, "body file");
     bodyDir = fs::path(cmd.body).parent_path();
   } else {
-    const json t = readJson(cmd.truth, "truth file");
+    const json t = readJsonFile(cmd.truth, "truth file");
     if (!t.contains("body") || !t["body"].is_object())
       throw FormatError(fmt::format("truth file {} has no \"body\" object", cmd.truth));
     bodyJson = t["body"];
@@ -77,7 +68,7 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
   const PosedFeatures body = poseBodyForScan(bodyJson, loaded.scan, progress, bodyDir);
   const fs::path segDir = cmd.segmentation;
-  const json garments = readJson(segDir / "garments.json", "garment list");
+  const json garments = readJsonFile(segDir / "garments.json", "garment list");
   PanelsInput in;
   in.body = body.body;
   in.features = body.features;

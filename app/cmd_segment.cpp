@@ -32,15 +32,6 @@ struct SegmentCommand {
   LoadOptions load;
 };
 
-json readJsonFile(const fs::path& path, const std::string& what) {
-  std::ifstream in(path);
-  if (!in) throw IoError(fmt::format("cannot read {} {}", what, path.string()));
-  try {
-    return json::parse(in);
-  } catch (const json::exception& e) {
-    throw FormatError(fmt::format("{} {} is not JSON: {}", what, path.string(), e.what()));
-  }
-}
 
 json truthBody(const fs::path& truth) {
   const json t = readJsonFile(truth, "truth file");

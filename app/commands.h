@@ -66,6 +66,8 @@ std::vector<View> parseViews(const std::string& list, const std::string& option 
 Image renderScan(const Scan& scan, const std::vector<View>& views, int heightPx);
 MeshAttributes colourAttributes(const Scan& scan);
 void writeJson(const std::filesystem::path& path, const nlohmann::json& j);
+// Reads a JSON file; IoError when it cannot be read, FormatError (naming `what`) when not JSON.
+nlohmann::json readJsonFile(const std::filesystem::path& path, const std::string& what);
 
 // The truth.json of every entry of a bench-suite folder (only the entry named `only` when not
 // empty), sorted; IoError when the folder or its entries are missing.

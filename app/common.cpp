@@ -1,6 +1,8 @@
 // Shared pieces of the command line: scan loading, the info summary, previews, JSON output.
 #include <fmt/format.h>
 
+#include <fstream>
+
 #include <algorithm>
 #include <chrono>
 #include <sstream>
@@ -221,6 +223,16 @@ Scene featureScene(const TriMesh& mesh, const FeatureSet& fs) {
     scene.points.push_back(set);
   }
   return scene;
+}
+
+json readJsonFile(const fs::path& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw IoError(fmt::format("cannot read {} {}", what, path.string()));
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw FormatError(fmt::format("{} {} is not JSON: {}", what, path.string(), e.what()));
+  }
 }
 
 void writeJson(const fs::path& path, const json& j) {
