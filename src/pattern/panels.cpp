@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -194,15 +195,6 @@ std::vector<std::pair<int, int>> cheapestCut(const TriMesh& panel, const MeshTop
   std::vector<std::pair<int, int>> path;
   for (int v = target; v >= 0 && prev[v] >= 0; v = prev[v]) path.push_back({prev[v], v});
   return path;
-}
-
-double loopArea(const TriMesh& m, const std::vector<int>& faces) {
-  double a = 0;
-  for (int f : faces) {
-    const Vec3 p = m.V.row(m.F(f, 0)), q = m.V.row(m.F(f, 1)), r = m.V.row(m.F(f, 2));
-    a += 0.5 * (q - p).cross(r - p).norm();
-  }
-  return a;
 }
 
 Vec3 facesCentroid(const TriMesh& m, const std::vector<int>& faces) {
@@ -781,9 +773,21 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
                                             "loops that are not its openings)",
                                             garments[g].name, filled));
   }
+  // A garment that makes no pattern does not cost the others theirs: its error becomes a
+  // warning, and only when no garment makes one is the error raised.
+  std::exception_ptr lastError;
   for (size_t g = 0; g < garments.size(); ++g) {
-    GarmentPanelizer(input, garments[g], static_cast<int>(g), frame, options, result).run();
+    const size_t panelsBefore = result.panels.size();
+    try {
+      GarmentPanelizer(input, garments[g], static_cast<int>(g), frame, options, result).run();
+    } catch (const Error& e) {
+      result.panels.resize(panelsBefore);  // drop what the failed garment had added
+      result.warnings.push_back(
+          fmt::format("garment '{}' makes no pattern: {}", garments[g].name, e.what()));
+      lastError = std::current_exception();
+    }
   }
+  if (result.garments.empty() && lastError) std::rethrow_exception(lastError);
   result.seconds = secondsSince(t0);
   return result;
 }

@@ -87,9 +87,11 @@ struct PanelsResult {
   double seconds = 0;
 };
 
-// Throws InputError for a garment without faces or a body whose canonical points are missing,
-// TopologyError naming the garment for a non-manifold garment mesh or a garment where no seam
-// survives and that is not a disk, or a panel that even the fallback cut cannot make a disk.
+// A garment without faces (InputError), with a non-manifold mesh, with no surviving seam while
+// not a disk, or with a panel that even the fallback cut cannot make a disk (TopologyError) makes
+// no pattern: its error, naming it, becomes a warning and the other garments go on. Throws that
+// error when no garment makes a pattern, and InputError for a body whose canonical points are
+// missing.
 PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options = {});
 
 // Leaves out the garment's connected pieces that are closed (no boundary: a bubble, no cloth)

@@ -354,3 +354,32 @@ TEST(Panels, ScanHolesAreFilledButOpeningsKept) {
 
 }  // namespace
 }  // namespace s2p
+
+namespace s2p {
+namespace {
+
+TEST(Panels, AGarmentThatMakesNoPatternLeavesTheOthersTheirs) {
+  // A flat sheet (one disk panel, no seam features) and a non-manifold fin.
+  const TriMesh sheet = makeGrid(10, 10, 0.3, 0.3);
+  TriMesh fin;
+  fin.V.resize(5, 3);
+  fin.V << 0, 0, 0, 0.1, 0, 0, 0.05, 0.1, 0, 0.05, -0.1, 0, 0.05, 0, 0.1;
+  fin.F.resize(3, 3);
+  fin.F << 0, 1, 2, 1, 0, 3, 0, 1, 4;
+  PanelsInput in = inputFor(sheet, GarmentKind::Upper);
+  in.features.seams = {{"upper_side", {}, {}}, {"shoulder", {}, {}}};
+  in.garments.push_back({"lower", GarmentKind::Lower, fin, Eigen::VectorXi::Zero(3)});
+  const PanelsResult r = runPanels(in);
+  ASSERT_EQ(r.garments.size(), 1u);
+  EXPECT_EQ(r.garments[0].name, "upper");
+  ASSERT_EQ(r.panels.size(), 1u);
+  bool named = false;
+  for (const std::string& w : r.warnings) named |= w.find("'lower' makes no pattern") != std::string::npos;
+  EXPECT_TRUE(named);
+  // Alone, the bad garment's error is raised.
+  in.garments.erase(in.garments.begin());
+  EXPECT_THROW(runPanels(in), TopologyError);
+}
+
+}  // namespace
+}  // namespace s2p
