@@ -5,6 +5,8 @@
 #include <chrono>
 #include <map>
 
+#include <tbb/parallel_for.h>
+
 #include "core/error.h"
 #include "pattern/uv_locator.h"
 
@@ -16,29 +18,96 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+double polylineLength(const Eigen::MatrixX2d& poly) {
+  double l = 0.0;
+  for (int i = 0; i + 1 < poly.rows(); ++i) l += (poly.row(i + 1) - poly.row(i)).norm();
+  return l;
+}
+
 Eigen::MatrixX2d rowsOf(const Eigen::MatrixX2d& uv, const std::vector<int>& ids) {
   Eigen::MatrixX2d P(static_cast<int>(ids.size()), 2);
   for (size_t i = 0; i < ids.size(); ++i) P.row(static_cast<int>(i)) = uv.row(ids[i]);
   return P;
 }
 
-// Flattening and Bézier outline of one panel (no remeshing yet: the sample counts depend on the
-// partner panels' 2D lengths).
-void flattenAndOutline(const Panel& panel, const BodyFrame& frame,
-                       const FlatPatternOptions& options, FlatPanel& out) {
+// Flattening of one panel (no outline yet: the seams are trued first).
+void flatten(const Panel& panel, const BodyFrame& frame, const FlatPatternOptions& options,
+             FlatPanel& out) {
   out.grain = panelGrain(panel, frame);
-  const std::string name = panel.garment + " " + panel.name;
-  out.flattening = flattenPanel(panel.mesh, out.grain, name, options.flatten);
+  out.flattening = flattenPanel(panel.mesh, out.grain, panel.garment + " " + panel.name,
+                                options.flatten);
   out.uv = out.flattening.uv;
+}
+
+// Metrics and Bézier outline of a flattened panel (no remeshing yet: the sample counts depend
+// on the partner panels' 2D lengths).
+void outline(const Panel& panel, const FlatPatternOptions& options, FlatPanel& out) {
   out.metrics = flatteningMetrics(panel.mesh, out.uv, out.grain);
+  out.edges.clear();
   for (const PanelEdge& e : panel.edges) {
     FlatEdge fe;
     const Eigen::MatrixX2d poly = rowsOf(out.uv, e.vertices);
-    for (int i = 0; i + 1 < poly.rows(); ++i) fe.length2d += (poly.row(i + 1) - poly.row(i)).norm();
+    fe.length2d = polylineLength(poly);
     fe.chain = fitBezierChain(poly, options.bezier);
     fe.fitError = maxDeviation(fe.chain, poly);
     out.edges.push_back(std::move(fe));
   }
+}
+
+// The partner seam edges of the panels, each pair once (a < b).
+std::vector<SeamPair> seamPairs(const PanelsResult& panels) {
+  std::vector<SeamPair> pairs;
+  for (size_t p = 0; p < panels.panels.size(); ++p) {
+    const Panel& panel = panels.panels[p];
+    for (size_t e = 0; e < panel.edges.size(); ++e) {
+      const PanelEdge& edge = panel.edges[e];
+      if (edge.opening || edge.partnerPanel < 0 || edge.partnerEdge < 0) continue;
+      const std::pair<int, int> a{static_cast<int>(p), static_cast<int>(e)};
+      const std::pair<int, int> b{edge.partnerPanel, edge.partnerEdge};
+      if (a < b) pairs.push_back({a.first, a.second, b.first, b.second});
+    }
+  }
+  return pairs;
+}
+
+// Seam truing (flatten.h): both edges of every pair whose panels flattened get the mean of
+// their 2D lengths; each panel is moved to its targets, then re-aligned to its grain.
+void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
+               const FlatPatternOptions& options, FlatPatternResult& r) {
+  std::vector<std::vector<BoundaryLengthTarget>> targets(panels.panels.size());
+  auto uvLength = [&](int p, int e) {
+    return polylineLength(rowsOf(r.panels[p].uv, panels.panels[p].edges[e].vertices));
+  };
+  for (const SeamPair& s : pairs) {
+    if (!r.panels[s.panelA].error.empty() || !r.panels[s.panelB].error.empty()) continue;
+    const double mean = 0.5 * (uvLength(s.panelA, s.edgeA) + uvLength(s.panelB, s.edgeB));
+    targets[s.panelA].push_back({panels.panels[s.panelA].edges[s.edgeA].vertices, mean});
+    targets[s.panelB].push_back({panels.panels[s.panelB].edges[s.edgeB].vertices, mean});
+  }
+  std::vector<std::string> failures(panels.panels.size());
+  tbb::parallel_for(size_t{0}, panels.panels.size(), [&](size_t p) {
+    FlatPanel& fp = r.panels[p];
+    if (!fp.error.empty() || targets[p].empty()) return;
+    const TriMesh& mesh = panels.panels[p].mesh;
+    try {
+      Eigen::MatrixX2d trued =
+          trueBoundaryLengths(mesh, fp.grain, fp.uv, targets[p], options.flatten, options.truing);
+      if (options.flatten.alignGrain) trued = alignToGrain(mesh, fp.grain, trued);
+      // Truing moves the boundary: it must not come to overlap itself.
+      if (polygonSelfIntersects(trued, fp.flattening.boundary))
+        failures[p] = "its trued outline overlapped itself";
+      else
+        fp.uv = trued;
+    } catch (const Error& e) {
+      failures[p] = e.what();
+    }
+  });
+  for (size_t p = 0; p < failures.size(); ++p)
+    if (!failures[p].empty())
+      r.warnings.push_back(fmt::format("panel '{}' of {}: seams not trued ({}); its stitches "
+                                       "keep their flattened lengths",
+                                       panels.panels[p].name, panels.panels[p].garment,
+                                       failures[p]));
 }
 
 void remesh(const Panel& panel, const TriMesh& scan, const std::vector<int>& counts,
@@ -89,7 +158,7 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
     FlatPanel& fp = r.panels[p];
     fp.panel = static_cast<int>(p);
     try {
-      flattenAndOutline(panels.panels[p], frame, options, fp);
+      flatten(panels.panels[p], frame, options, fp);
     } catch (const Error& e) {
       fp.error = e.what();
       r.warnings.push_back(fmt::format("panel '{}' of {} not flattened: {}", panels.panels[p].name,
@@ -97,6 +166,10 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
     }
     fp.seconds = secondsSince(tp);
   }
+  std::vector<SeamPair> pairs = seamPairs(panels);
+  if (options.trueSeams) trueSeams(panels, pairs, options, r);
+  for (size_t p = 0; p < panels.panels.size(); ++p)
+    if (r.panels[p].error.empty()) outline(panels.panels[p], options, r.panels[p]);
   // Sample counts: a stitched pair shares the count of its mean 2D length, so that a simulator
   // can pair the two edges vertex to vertex.
   std::vector<std::vector<int>> counts(panels.panels.size());
@@ -108,27 +181,19 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
     for (size_t e = 0; e < fp.edges.size(); ++e)
       counts[p][e] = boundarySampleCount(fp.edges[e].length2d, target);
   }
-  for (size_t p = 0; p < panels.panels.size(); ++p) {
-    const Panel& panel = panels.panels[p];
-    for (size_t e = 0; e < panel.edges.size(); ++e) {
-      const PanelEdge& edge = panel.edges[e];
-      if (edge.opening || edge.partnerPanel < 0 || edge.partnerEdge < 0) continue;
-      const std::pair<int, int> a{static_cast<int>(p), static_cast<int>(e)};
-      const std::pair<int, int> b{edge.partnerPanel, edge.partnerEdge};
-      if (!(a < b)) continue;
-      SeamPair s{a.first, a.second, b.first, b.second};
-      const FlatPanel& fa = r.panels[a.first];
-      const FlatPanel& fb = r.panels[b.first];
-      if (fa.error.empty()) s.lengthA = fa.edges[a.second].length2d;
-      if (fb.error.empty()) s.lengthB = fb.edges[b.second].length2d;
-      const double mean = fa.error.empty() && fb.error.empty() ? 0.5 * (s.lengthA + s.lengthB)
-                                                               : std::max(s.lengthA, s.lengthB);
-      s.samples = boundarySampleCount(mean, target);
-      if (fa.error.empty()) counts[a.first][a.second] = s.samples;
-      if (fb.error.empty()) counts[b.first][b.second] = s.samples;
-      r.seams.push_back(s);
-    }
+  for (SeamPair& s : pairs) {
+    const FlatPanel& fa = r.panels[s.panelA];
+    const FlatPanel& fb = r.panels[s.panelB];
+    // The lengths a simulator and a pattern maker see: the Bézier chains'.
+    if (fa.error.empty()) s.lengthA = fa.edges[s.edgeA].chain.length();
+    if (fb.error.empty()) s.lengthB = fb.edges[s.edgeB].chain.length();
+    const double mean = fa.error.empty() && fb.error.empty() ? 0.5 * (s.lengthA + s.lengthB)
+                                                             : std::max(s.lengthA, s.lengthB);
+    s.samples = boundarySampleCount(mean, target);
+    if (fa.error.empty()) counts[s.panelA][s.edgeA] = s.samples;
+    if (fb.error.empty()) counts[s.panelB][s.edgeB] = s.samples;
   }
+  r.seams = std::move(pairs);
   for (size_t p = 0; p < panels.panels.size(); ++p) {
     FlatPanel& fp = r.panels[p];
     if (!fp.error.empty()) continue;

@@ -297,33 +297,103 @@ double warpWeftEnergy(const TriMesh& panel, const Eigen::Vector3d& grain,
   return energy;
 }
 
+namespace {
+
+// Boundary edges (i → j) held at target lengths in the refinement, each with its weight.
+struct BoundaryTerm {
+  std::vector<std::array<int, 2>> edges;
+  std::vector<double> length, weight;
+  // Weight w_e = w·√A / l_e, so that Σ_e w_e l_e² ε² ≈ w · A · ε²: the edges at strain ε weigh
+  // as much as w times the whole area at that strain, at any resolution.
+  void add(int i, int j, double targetLength, double w, double sqrtArea) {
+    edges.push_back({i, j});
+    length.push_back(targetLength);
+    weight.push_back(w * sqrtArea / std::max(targetLength, 1e-9));
+  }
+};
+
+WarpWeftRefinement refineWithBoundary(const TriMesh& panel, const GrainFrames& frames,
+                                      const Eigen::MatrixX2d& uv0, const FlattenOptions& options,
+                                      const BoundaryTerm& boundary);
+
+}  // namespace
+
 WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& grain,
                                   const Eigen::MatrixX2d& uv0, const FlattenOptions& options) {
-  const int nV = panel.numVertices(), nF = panel.numFaces();
+  const int nV = panel.numVertices();
   if (uv0.rows() != nV)
     throw InputError(
         fmt::format("refineWarpWeft: uv has {} rows, the panel {} vertices", uv0.rows(), nV));
   const GrainFrames frames = grainFrames(panel, grain);
-  WarpWeftRefinement result;
-  result.uv = uv0;
-  if (nV < 2) return result;
-
-  // Boundary edges (i → j) and their weights w_e = boundaryWeight·√A / l_e, so that
-  // Σ_e w_e l_e² ε² ≈ boundaryWeight · A · ε²: the whole boundary at strain ε weighs as much as
-  // boundaryWeight times the whole area at that strain, at any resolution.
-  const MeshTopology topology(panel.F, nV);
-  std::vector<std::array<int, 2>> bEdges;
-  std::vector<double> bLength, bWeight;
+  // Every boundary edge at its 3D length, weighted by boundaryWeight.
+  BoundaryTerm boundary;
   const double sqrtArea = std::sqrt(frames.area.sum());
+  const MeshTopology topology(panel.F, nV);
   if (options.boundaryWeight > 0.0)
     for (const std::vector<int>& loop : topology.boundaryLoops())
       for (size_t k = 0; k < loop.size(); ++k) {
         const int i = loop[k], j = loop[(k + 1) % loop.size()];
-        const double l = (vertex(panel, j) - vertex(panel, i)).norm();
-        bEdges.push_back({i, j});
-        bLength.push_back(l);
-        bWeight.push_back(options.boundaryWeight * sqrtArea / l);
+        boundary.add(i, j, (vertex(panel, j) - vertex(panel, i)).norm(), options.boundaryWeight,
+                     sqrtArea);
       }
+  return refineWithBoundary(panel, frames, uv0, options, boundary);
+}
+
+Eigen::MatrixX2d trueBoundaryLengths(const TriMesh& panel, const Eigen::Vector3d& grain,
+                                     const Eigen::MatrixX2d& uv0,
+                                     const std::vector<BoundaryLengthTarget>& targets,
+                                     const FlattenOptions& options, const SeamTruing& truing) {
+  const int nV = panel.numVertices();
+  if (uv0.rows() != nV)
+    throw InputError(
+        fmt::format("trueBoundaryLengths: uv has {} rows, the panel {} vertices", uv0.rows(), nV));
+  for (const BoundaryLengthTarget& t : targets)
+    for (int v : t.vertices)
+      if (v < 0 || v >= nV)
+        throw InputError(fmt::format("trueBoundaryLengths: vertex {} of a target is not in the "
+                                     "panel's {} vertices", v, nV));
+  const GrainFrames frames = grainFrames(panel, grain);
+  const double sqrtArea = std::sqrt(frames.area.sum());
+  auto chainLength = [](const Eigen::MatrixX2d& uv, const std::vector<int>& chain) {
+    double l = 0.0;
+    for (size_t k = 0; k + 1 < chain.size(); ++k) l += (uv.row(chain[k + 1]) - uv.row(chain[k])).norm();
+    return l;
+  };
+  Eigen::MatrixX2d uv = uv0;
+  FlattenOptions local = options;
+  local.refineIterations = truing.iterations;
+  for (int round = 0; round < truing.rounds; ++round) {
+    double worst = 0.0;
+    BoundaryTerm boundary;
+    for (const BoundaryLengthTarget& t : targets) {
+      const double current = chainLength(uv, t.vertices);
+      worst = std::max(worst, std::abs(current - t.length));
+      // Every edge of the chain scaled by the same factor: the chain keeps its shape and
+      // takes the target length; the rest of the panel follows by the strain energy.
+      const double scale = current > 0.0 ? t.length / current : 1.0;
+      for (size_t k = 0; k + 1 < t.vertices.size(); ++k) {
+        const int i = t.vertices[k], j = t.vertices[k + 1];
+        boundary.add(i, j, scale * (uv.row(j) - uv.row(i)).norm(), truing.weight, sqrtArea);
+      }
+    }
+    if (worst <= truing.tolerance || boundary.edges.empty()) break;
+    uv = refineWithBoundary(panel, frames, uv, local, boundary).uv;
+  }
+  return uv;
+}
+
+namespace {
+
+WarpWeftRefinement refineWithBoundary(const TriMesh& panel, const GrainFrames& frames,
+                                      const Eigen::MatrixX2d& uv0, const FlattenOptions& options,
+                                      const BoundaryTerm& boundary) {
+  const int nV = panel.numVertices(), nF = panel.numFaces();
+  WarpWeftRefinement result;
+  result.uv = uv0;
+  if (nV < 2) return result;
+  const std::vector<std::array<int, 2>>& bEdges = boundary.edges;
+  const std::vector<double>& bLength = boundary.length;
+  const std::vector<double>& bWeight = boundary.weight;
 
   // Global step matrix: the 3D cotan Laplacian (Σ A_f ∇φ_i·∇φ_j) plus the boundary edges'
   // graph Laplacian Σ w_e (e_i − e_j)(e_i − e_j)ᵀ, vertex `pinned` removed; factored once.
@@ -432,6 +502,8 @@ WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& g
   }
   return result;
 }
+
+}  // namespace
 
 // === Grain alignment
 

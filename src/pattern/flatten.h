@@ -126,6 +126,35 @@ struct WarpWeftRefinement {
 WarpWeftRefinement refineWarpWeft(const TriMesh& panel, const Eigen::Vector3d& grain,
                                   const Eigen::MatrixX2d& uv0, const FlattenOptions& options = {});
 
+// === Seam truing
+// A pattern maker "trues" a seam: the two edges that are sewn together must have the same
+// length, or one of them has to be eased in. Two panels are flattened independently and their
+// strain fits shorten oblique edges differently (a few mm on a side seam), so each pair is
+// given a common length (the caller's choice, e.g. the mean of the two) and every panel is
+// moved to it: the same local/global iteration, with the boundary term on the target chains
+// only, each of their edges asking for its current length × target/current chain length. The
+// change asked for is small (millimetres), so a strong weight costs little strain.
+
+struct BoundaryLengthTarget {
+  std::vector<int> vertices;  // a chain of boundary vertices, in order
+  double length = 0.0;        // its 2D length to reach (m)
+};
+
+struct SeamTruing {
+  double weight = 50.0;      // of the chains' edges, as FlattenOptions::boundaryWeight
+  int rounds = 4;            // targets re-scaled from the current lengths each round
+  int iterations = 4;        // local/global iterations per round
+  double tolerance = 2e-4;   // m: stop when every chain is this close to its target
+};
+
+// uv0: a flip-free flattening of the checked panel. Returns the trued uv (no face inverted
+// that was not inverted in uv0; the same rigid frame up to the pinned vertex's drift).
+Eigen::MatrixX2d trueBoundaryLengths(const TriMesh& panel, const Eigen::Vector3d& grain,
+                                     const Eigen::MatrixX2d& uv0,
+                                     const std::vector<BoundaryLengthTarget>& targets,
+                                     const FlattenOptions& options = {},
+                                     const SeamTruing& truing = {});
+
 // Warp/weft energy Σ_f A_f ‖J_f − T_f‖²_F of uv (m²), T_f as in the local step.
 double warpWeftEnergy(const TriMesh& panel, const Eigen::Vector3d& grain,
                       const Eigen::MatrixX2d& uv, double maxShear);

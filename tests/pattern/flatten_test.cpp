@@ -191,6 +191,46 @@ TEST(Flatten, BoundaryWeightTradesStrainForSeamLength) {
   EXPECT_EQ(held.invertedFaces, 0);
 }
 
+TEST(SeamTruing, ChainsReachTheirTargetLengthsAtLittleCostInStrain) {
+  // The torso front's boundary split into four chains; one asked 4 mm longer, one 3 mm shorter
+  // (what two independently flattened partner panels differ by): both reached within 0.2 mm,
+  // the chains not asked for barely move, the strain stays within the cloth bound, flip-free.
+  const TriMesh torso = test::makeTorsoPanel(60, 50, 0.16, 0.025, 0.5, 160.0 * kPi / 180.0, 0.3);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  const PanelFlattening flat = flattenPanel(torso, up, "torso_front");
+  const std::vector<int>& loop = flat.boundary;
+  const size_t n = loop.size(), q = n / 4;
+  auto chain = [&](size_t from, size_t to) {
+    std::vector<int> c;
+    for (size_t k = from; k <= to; ++k) c.push_back(loop[k % n]);
+    return c;
+  };
+  auto length = [](const Eigen::MatrixX2d& uv, const std::vector<int>& c) {
+    double l = 0.0;
+    for (size_t k = 0; k + 1 < c.size(); ++k) l += (uv.row(c[k + 1]) - uv.row(c[k])).norm();
+    return l;
+  };
+  const std::vector<int> a = chain(0, q), b = chain(2 * q, 3 * q), c = chain(q, 2 * q);
+  const double la = length(flat.uv, a), lb = length(flat.uv, b), lc = length(flat.uv, c);
+  const Eigen::MatrixX2d trued =
+      trueBoundaryLengths(torso, up, flat.uv, {{a, la + 0.004}, {b, lb - 0.003}});
+  EXPECT_NEAR(length(trued, a), la + 0.004, 2e-4);
+  EXPECT_NEAR(length(trued, b), lb - 0.003, 2e-4);
+  EXPECT_NEAR(length(trued, c), lc, 2e-3);  // free to follow, but not far
+  const FlatteningMetrics before = flatteningMetrics(torso, flat.uv, up);
+  const FlatteningMetrics after = flatteningMetrics(torso, trued, up);
+  printMetrics("torso trued", after);
+  EXPECT_LT(after.warp.p95, before.warp.p95 + 0.01);
+  EXPECT_LT(after.weft.p95, before.weft.p95 + 0.01);
+  EXPECT_EQ(after.invertedFaces, 0);
+  EXPECT_FALSE(after.boundarySelfIntersects);
+  // A target already met leaves the flattening as it is.
+  const Eigen::MatrixX2d same = trueBoundaryLengths(torso, up, flat.uv, {{a, la}});
+  EXPECT_EQ((same - flat.uv).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_THROW(trueBoundaryLengths(torso, up, flat.uv, {{{0, torso.numVertices()}, 0.1}}),
+               InputError);
+}
+
 TEST(Flatten, MaxShearZeroIsArapAndKeepsAnglesCloserThanShear) {
   // With maxShear = 0 the target is a rotation (ARAP): warp ⟂ weft in 2D. Allowing shear
   // trades angle for length: lower strain.
