@@ -495,13 +495,27 @@ Eigen::MatrixX3d unposeSkinned(const PosedBody& body, const RowSparse& weights,
   return out;
 }
 
+Eigen::MatrixX3d poseSkinned(const PosedBody& body, const RowSparse& weights,
+                             const Eigen::MatrixX3d& P) {
+  const int nj = static_cast<int>(body.skinning.size());
+  if (weights.rows() != P.rows() || weights.cols() != nj)
+    throw InputError("poseSkinned: weights are " + std::to_string(weights.rows()) + "×" +
+                     std::to_string(weights.cols()) +
+                     ", expected #P×#J = " + std::to_string(P.rows()) + "×" + std::to_string(nj));
+  Eigen::MatrixX3d out = Eigen::MatrixX3d::Zero(P.rows(), 3);
+  for (int i = 0; i < P.rows(); ++i)
+    for (RowSparse::InnerIterator it(weights, i); it; ++it)
+      out.row(i) += it.value() * (body.skinning[it.col()] * P.row(i).transpose()).transpose();
+  return out;
+}
+
 // === Standard poses
 
 BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which) {
   BodyPose pose = BodyPose::zero(model.numJoints());
   if (which == StandardPose::Rest) return pose;
   const Eigen::MatrixX3d J = restJoints(model, shape);
-  const double down = which == StandardPose::APose ? std::numbers::pi / 4 : 0.0;
+  const double down = which == StandardPose::TPose ? 0.0 : std::numbers::pi / 4;
   auto jointOf = [&](Canonical c) {
     const int j = model.canonical[static_cast<int>(c)].joint;
     if (j < 0 || j >= model.numJoints())
@@ -514,25 +528,39 @@ BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, Stan
       if (k == a) return true;
     return false;
   };
-  struct Arm {
-    Canonical shoulder, elbow, wrist;
-    double side;  // +1: body's left, on +X
+  // A limb (root → middle → end joints) straightened along a target direction.
+  struct Limb {
+    Canonical root, middle, end;
+    Eigen::Vector3d target;
   };
-  for (const Arm& arm :
-       {Arm{Canonical::LeftShoulder, Canonical::LeftElbow, Canonical::LeftWrist, 1.0},
-        Arm{Canonical::RightShoulder, Canonical::RightElbow, Canonical::RightWrist, -1.0}}) {
-    const int s = jointOf(arm.shoulder), e = jointOf(arm.elbow), w = jointOf(arm.wrist);
+  const double side = 1.0;  // the body's left is on +X
+  std::vector<Limb> limbs;
+  for (const double s : {side, -side}) {
+    const bool left = s > 0;
+    limbs.push_back({left ? Canonical::LeftShoulder : Canonical::RightShoulder,
+                     left ? Canonical::LeftElbow : Canonical::RightElbow,
+                     left ? Canonical::LeftWrist : Canonical::RightWrist,
+                     Eigen::Vector3d(s * std::cos(down), -std::sin(down), 0.0)});
+    if (which == StandardPose::DrapePose)
+      limbs.push_back({left ? Canonical::LeftHip : Canonical::RightHip,
+                       left ? Canonical::LeftKnee : Canonical::RightKnee,
+                       left ? Canonical::LeftAnkle : Canonical::RightAnkle,
+                       Eigen::Vector3d(s * std::sin(kDrapeLegSpread), -std::cos(kDrapeLegSpread),
+                                       0.0)});
+  }
+  for (const Limb& limb : limbs) {
+    const int s = jointOf(limb.root), e = jointOf(limb.middle), w = jointOf(limb.end);
     if (!isAncestor(s, e) || !isAncestor(e, w))
-      throw InputError(describe(model) + ": canonical " + toString(arm.shoulder) + " → " +
-                       toString(arm.elbow) + " → " + toString(arm.wrist) +
+      throw InputError(describe(model) + ": canonical " + toString(limb.root) + " → " +
+                       toString(limb.middle) + " → " + toString(limb.end) +
                        " is not a chain of the skeleton");
-    const Eigen::Vector3d target(arm.side * std::cos(down), -std::sin(down), 0.0);
     const Eigen::Vector3d upper = (J.row(e) - J.row(s)).transpose();
     const Eigen::Vector3d lower = (J.row(w) - J.row(e)).transpose();
-    // Every ancestor of the shoulder stays at rest, so its local rotation is a world rotation.
-    const Eigen::Matrix3d Rs = Eigen::Quaterniond::FromTwoVectors(upper, target).toRotationMatrix();
+    // Every ancestor of the root stays at rest, so its local rotation is a world rotation.
+    const Eigen::Matrix3d Rs =
+        Eigen::Quaterniond::FromTwoVectors(upper, limb.target).toRotationMatrix();
     const Eigen::Matrix3d Re =
-        Eigen::Quaterniond::FromTwoVectors(lower, Rs.transpose() * target).toRotationMatrix();
+        Eigen::Quaterniond::FromTwoVectors(lower, Rs.transpose() * limb.target).toRotationMatrix();
     pose.axisAngle.row(s) = matrixToAxisAngle(Rs).transpose();
     pose.axisAngle.row(e) = matrixToAxisAngle(Re).transpose();
   }

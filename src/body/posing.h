@@ -80,12 +80,24 @@ Eigen::MatrixX3d unposeSkinned(const PosedBody& body,
                                const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights,
                                const Eigen::MatrixX3d& P);
 
+// Per point: the weight-blended skinning transform applied to rest points P (#P×3), the
+// inverse of unposeSkinned (for points that are not the model's vertices: a garment, a body
+// carrying a non-rigid fit's detail).
+Eigen::MatrixX3d poseSkinned(const PosedBody& body,
+                             const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights,
+                             const Eigen::MatrixX3d& P);
+
 // === Standard poses
 
-enum class StandardPose { Rest, APose, TPose };
+enum class StandardPose { Rest, APose, TPose, DrapePose };
 
-// Arms in the frontal plane, elbows straight, horizontal (T) or 45° below horizontal (A);
-// legs and everything else at rest. Computed from the canonical shoulder, elbow and wrist
+// The drape pose's legs: each turned out by this angle from the vertical in the frontal plane.
+inline constexpr double kDrapeLegSpread = 0.14;  // rad, 8°: the ankles ~0.25 m apart, thighs clear
+
+// Arms in the frontal plane, elbows straight, horizontal (T) or 45° below horizontal (A and the
+// drape pose); legs at rest, except in the drape pose (the pose patterns are placed and draped
+// around: A-pose arms and both legs turned out by kDrapeLegSpread, knees straight, so that no
+// sleeve touches the torso and no trouser leg the other); everything else at rest. Computed from the canonical shoulder, elbow and wrist
 // joints of the shaped model, so it works whatever the source's rest pose is.
 BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which);
 
