@@ -38,4 +38,9 @@ struct SewingPattern {
   std::vector<SewingPiece> pieces;
 };
 
+// What the writers check first: InputError, naming `writer`, the piece's index and name, when
+// there is no piece, a sew line is not a simple counter-clockwise polygon of ≥ 3 points, a
+// quantity is below 1, or a notch, the grainline or an internal line is not finite.
+void checkSewingPattern(const SewingPattern& pattern, const std::string& writer);
+
 }  // namespace s2p
