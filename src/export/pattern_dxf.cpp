@@ -134,17 +134,17 @@ void writePatternDxf(const std::filesystem::path& path, const SewingPattern& pat
     DL_Dxf dxf;
     std::unique_ptr<DL_WriterA> dw(dxf.out(tmp.c_str(), DL_Codes::AC1009));
     if (!dw)
-      throw IoError(fmt::format("{}: cannot create the file; check the folder exists and is "
-                                "writable",
-                                path.string()));
+      throw IoError(
+          fmt::format("{}: cannot create the file; check the folder exists and is "
+                      "writable",
+                      path.string()));
     dxf.writeHeader(*dw);
     dw->sectionEnd();
 
     dw->sectionBlocks();
     for (size_t i = 0; i < pattern.pieces.size(); ++i) {
       dxf.writeBlock(*dw, DL_BlockData(names[i], 0, 0, 0, 0));
-      writePieceBlock(dxf, *dw, pattern.pieces[i], pattern.sampleSize, sew[i], cut[i],
-                      allowanceMm);
+      writePieceBlock(dxf, *dw, pattern.pieces[i], pattern.sampleSize, sew[i], cut[i], allowanceMm);
       dxf.writeEndBlock(*dw, names[i]);
     }
     dw->sectionEnd();

@@ -49,18 +49,16 @@ cairo_status_t appendToString(void* closure, const unsigned char* data, unsigned
 }
 
 Eigen::Vector2d minCorner(const Polygon2& polygon) {
-  return std::accumulate(polygon.begin(), polygon.end(),
-                         Eigen::Vector2d::Constant(std::numeric_limits<double>::max()).eval(),
-                         [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-                           return a.cwiseMin(b).eval();
-                         });
+  return std::accumulate(
+      polygon.begin(), polygon.end(),
+      Eigen::Vector2d::Constant(std::numeric_limits<double>::max()).eval(),
+      [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.cwiseMin(b).eval(); });
 }
 Eigen::Vector2d maxCorner(const Polygon2& polygon) {
-  return std::accumulate(polygon.begin(), polygon.end(),
-                         Eigen::Vector2d::Constant(std::numeric_limits<double>::lowest()).eval(),
-                         [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-                           return a.cwiseMax(b).eval();
-                         });
+  return std::accumulate(
+      polygon.begin(), polygon.end(),
+      Eigen::Vector2d::Constant(std::numeric_limits<double>::lowest()).eval(),
+      [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.cwiseMax(b).eval(); });
 }
 
 // "cut 1", "cut 2, mirrored".
@@ -70,7 +68,9 @@ std::string cutText(const SewingPiece& piece) {
 
 // === Drawing helpers (user space: sheet millimetres, y down)
 
-void setDash(cairo_t* cr, const double* dashes, int count) { cairo_set_dash(cr, dashes, count, 0); }
+void setDash(cairo_t* cr, const double* dashes, int count) {
+  cairo_set_dash(cr, dashes, count, 0);
+}
 
 void strokeLine(cairo_t* cr, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   cairo_move_to(cr, a.x(), a.y());
@@ -81,8 +81,10 @@ void strokeLine(cairo_t* cr, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
 void tracePolyline(cairo_t* cr, const PrintedPiece& at, const Polygon2& points, bool closed) {
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector2d q = at.toSheet(points[i]);
-    if (i == 0) cairo_move_to(cr, q.x(), q.y());
-    else cairo_line_to(cr, q.x(), q.y());
+    if (i == 0)
+      cairo_move_to(cr, q.x(), q.y());
+    else
+      cairo_line_to(cr, q.x(), q.y());
   }
   if (closed) cairo_close_path(cr);
 }
@@ -185,8 +187,7 @@ void drawPiece(cairo_t* cr, const SewingPiece& piece, const PrintedPiece& at,
   const std::vector<TextLine> lines{
       {piece.name, 6, true}, {piece.garment, 4.5, false}, {cutText(piece), 4.5, false}};
   const Eigen::Vector2d natural = blockSize(cr, lines, 1);
-  const double scale =
-      std::clamp(1000 * spot.clearance / (0.5 * natural.norm() + 1e-9), 0.35, 1.0);
+  const double scale = std::clamp(1000 * spot.clearance / (0.5 * natural.norm() + 1e-9), 0.35, 1.0);
   const Eigen::Vector2d size = blockSize(cr, lines, scale);
   showBlock(cr, lines, at.toSheet(spot.at) - 0.5 * size, size.x(), scale, true);
 }
@@ -203,8 +204,8 @@ void drawTestSquare(cairo_t* cr, const Eigen::Vector2d& corner, bool outline) {
                                     {"print at 100 % (actual size)", 3.5, false},
                                     {"and check it measures 10 cm", 3.5, false}};
   const Eigen::Vector2d size = blockSize(cr, lines, 1);
-  showBlock(cr, lines, corner + 0.5 * (Eigen::Vector2d::Constant(kTestSquareMm) - size),
-            size.x(), 1, true);
+  showBlock(cr, lines, corner + 0.5 * (Eigen::Vector2d::Constant(kTestSquareMm) - size), size.x(),
+            1, true);
 }
 
 void drawTitleBlock(cairo_t* cr, const Eigen::Vector2d& corner, const SewingPattern& pattern,
@@ -217,9 +218,9 @@ void drawTitleBlock(cairo_t* cr, const Eigen::Vector2d& corner, const SewingPatt
       {"date: " + (pattern.creationDate.empty() ? "-" : pattern.creationDate), 4.5, false},
       {"units: millimetres, scale 1:1", 4.5, false},
       {"sample size: " + pattern.sampleSize, 4.5, false},
-      {allowanceMm > 0 ? fmt::format("seam allowance {:g} mm included (dashed: sew line)",
-                                     allowanceMm)
-                       : std::string("no seam allowance: cut on the sew line"),
+      {allowanceMm > 0
+           ? fmt::format("seam allowance {:g} mm included (dashed: sew line)", allowanceMm)
+           : std::string("no seam allowance: cut on the sew line"),
        4.5, false},
       {fmt::format("{} pieces, {} to cut", pattern.pieces.size(), toCut), 4.5, false},
       {"made by scan2pattern", 3.5, false}};
@@ -286,18 +287,20 @@ void drawTileFrame(cairo_t* cr, const PageTiling& t, int row, int column, int pa
   setDash(cr, kOverlapDash.data(), kOverlapDash.size());
   const Eigen::Vector2d lo(m, m), hi = lo + t.cell;
   if (column > 0) strokeLine(cr, {m + t.overlap, lo.y()}, {m + t.overlap, hi.y()});
-  if (column + 1 < t.columns) strokeLine(cr, {hi.x() - t.overlap, lo.y()}, {hi.x() - t.overlap, hi.y()});
+  if (column + 1 < t.columns)
+    strokeLine(cr, {hi.x() - t.overlap, lo.y()}, {hi.x() - t.overlap, hi.y()});
   if (row > 0) strokeLine(cr, {lo.x(), m + t.overlap}, {hi.x(), m + t.overlap});
   if (row + 1 < t.rows) strokeLine(cr, {lo.x(), hi.y() - t.overlap}, {hi.x(), hi.y() - t.overlap});
   setDash(cr, nullptr, 0);
 
   cairo_set_source_rgb(cr, 0, 0, 0);
-  const TextLine number{fmt::format("{}: row {}, column {} (page {} of {})", style, row + 1,
-                                    column + 1, page, pages),
-                        3.5, true};
-  const TextLine help{"trim the left and top margins on the frame, lay the frame on the "
-                      "neighbours' dashed lines, crosses on crosses, and tape",
-                      2.5, false};
+  const TextLine number{
+      fmt::format("{}: row {}, column {} (page {} of {})", style, row + 1, column + 1, page, pages),
+      3.5, true};
+  const TextLine help{
+      "trim the left and top margins on the frame, lay the frame on the "
+      "neighbours' dashed lines, crosses on crosses, and tape",
+      2.5, false};
   const double helpScale = std::min(1.0, t.cell.x() / textWidth(cr, help, 1));
   showBlock(cr, {help}, {m, 0.5 * m - 1.5}, t.cell.x(), helpScale, true);
   showBlock(cr, {number}, {m, hi.y() + 0.5 * m - 2.5}, t.cell.x(), 1, true);
@@ -388,9 +391,8 @@ PrintSheet layoutPrintSheet(const SewingPattern& pattern, const PrintOptions& op
     const Eigen::Vector2d t = offset.row(static_cast<int>(i)).transpose();
     p.origin = Eigen::Vector2d(kMarginMm + 1000 * t.x(), top - 1000 * t.y());
     const Polygon2& cut = p.cutLine;
-    extent = extent.cwiseMax(
-        p.toSheet(Eigen::Vector2d(maxCorner(cut).x(), minCorner(cut).y())) +
-        Eigen::Vector2d::Constant(kMarginMm));
+    extent = extent.cwiseMax(p.toSheet(Eigen::Vector2d(maxCorner(cut).x(), minCorner(cut).y())) +
+                             Eigen::Vector2d::Constant(kMarginMm));
   }
   sheet.size = extent;
   return sheet;
@@ -403,9 +405,9 @@ void writePatternSvg(const std::filesystem::path& path, const SewingPattern& pat
   {
     // With millimetres as the document unit, cairo writes width="…mm" and a viewBox of the same
     // numbers, so one user unit is one millimetre.
-    SurfacePtr surface(cairo_svg_surface_create_for_stream(appendToString, &svg, sheet.size.x(),
-                                                           sheet.size.y()),
-                       cairo_surface_destroy);
+    SurfacePtr surface(
+        cairo_svg_surface_create_for_stream(appendToString, &svg, sheet.size.x(), sheet.size.y()),
+        cairo_surface_destroy);
     cairo_svg_surface_set_document_unit(surface.get(), CAIRO_SVG_UNIT_MM);
     CairoPtr cr(cairo_create(surface.get()), cairo_destroy);
     drawSheet(cr.get(), pattern, sheet, options, false);
@@ -431,10 +433,10 @@ void writePatternPdf(const std::filesystem::path& path, const SewingPattern& pat
   const int pages = 1 + tiles.rows * tiles.columns;
   std::string pdf;
   {
-    SurfacePtr surface(cairo_pdf_surface_create_for_stream(appendToString, &pdf,
-                                                           kPtPerMm * sheet.size.x(),
-                                                           kPtPerMm * sheet.size.y()),
-                       cairo_surface_destroy);
+    SurfacePtr surface(
+        cairo_pdf_surface_create_for_stream(appendToString, &pdf, kPtPerMm * sheet.size.x(),
+                                            kPtPerMm * sheet.size.y()),
+        cairo_surface_destroy);
     cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_TITLE,
                                    pattern.styleName.c_str());
     cairo_pdf_surface_set_metadata(surface.get(), CAIRO_PDF_METADATA_CREATOR, "scan2pattern");

@@ -21,7 +21,8 @@ enum class Paper { A4, Letter };
 struct PrintOptions {
   double seamAllowance = 0.01;  // metres, ≥ 0 (0: the cut line is the sew line)
   Paper paper = Paper::A4;      // the PDF's tile pages
-  double sheetWidth = 1.5;      // metres: pieces are laid out in rows at most this wide (or the widest piece)
+  double sheetWidth =
+      1.5;  // metres: pieces are laid out in rows at most this wide (or the widest piece)
 };
 
 // === The sheet both files draw: millimetres, x right, y down from the sheet's top-left corner

@@ -132,8 +132,8 @@ TEST(PatternDxf, OneBlockPerPieceOnTheAamaLayers) {
 
   const Content& entities = dxf.blocks.at("");
   EXPECT_EQ(entities.layers, std::set<std::string>{"1"});
-  for (const char* text : {"Style Name: test style", "Creation Date: 2026-12-01",
-                           "Units: METRIC", "Sample Size: M"})
+  for (const char* text :
+       {"Style Name: test style", "Creation Date: 2026-12-01", "Units: METRIC", "Sample Size: M"})
     EXPECT_TRUE(contains(entities.texts, text)) << text;
 }
 

@@ -32,10 +32,8 @@ inline SewingPiece rectanglePiece(const std::string& name, double w, double h) {
   piece.garment = "tshirt";
   piece.sewLine = rectangle(w, h);
   piece.corners = {0, 1, 2, 3};
-  piece.notches = {{{w / 2, 0}, {0, -1}},
-                   {{w, h / 2}, {1, 0}},
-                   {{w / 2, h}, {0, 1}},
-                   {{0, h / 2}, {-1, 0}}};
+  piece.notches = {
+      {{w / 2, 0}, {0, -1}}, {{w, h / 2}, {1, 0}}, {{w / 2, h}, {0, 1}}, {{0, h / 2}, {-1, 0}}};
   piece.grainFrom = {w / 2, 0.2 * h};
   piece.grainTo = {w / 2, 0.8 * h};
   piece.internalLines = {{{0.3 * w, h}, {0.4 * w, 0.7 * h}, {0.5 * w, h}}};

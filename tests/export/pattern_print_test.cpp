@@ -27,8 +27,10 @@ std::string attribute(const std::string& xml, const std::string& element, const 
 
 std::vector<Eigen::Vector2d> mediaBoxes(const std::string& pdf) {
   std::vector<Eigen::Vector2d> boxes;
-  const std::regex box("/MediaBox\\s*\\[\\s*([-\\d.]+)\\s+([-\\d.]+)\\s+([-\\d.]+)\\s+([-\\d.]+)\\s*\\]");
-  for (auto it = std::sregex_iterator(pdf.begin(), pdf.end(), box); it != std::sregex_iterator(); ++it)
+  const std::regex box(
+      "/MediaBox\\s*\\[\\s*([-\\d.]+)\\s+([-\\d.]+)\\s+([-\\d.]+)\\s+([-\\d.]+)\\s*\\]");
+  for (auto it = std::sregex_iterator(pdf.begin(), pdf.end(), box); it != std::sregex_iterator();
+       ++it)
     boxes.emplace_back(std::stod((*it)[3]) - std::stod((*it)[1]),
                        std::stod((*it)[4]) - std::stod((*it)[2]));
   return boxes;
@@ -67,13 +69,12 @@ TEST(PatternPrint, TestSquareMeasures100mmInTheSvg) {
   test::TempDir dir;
   writePatternSvg(dir / "pattern.svg", test::twoPiecePattern());
   const std::string svg = test::readFile(dir / "pattern.svg");
-  const double mmPerUnit =
-      std::stod(attribute(svg, "<svg ", "width")) / [&] {
-        std::istringstream v(attribute(svg, "<svg ", "viewBox"));
-        double a, b, w;
-        v >> a >> b >> w;
-        return w;
-      }();
+  const double mmPerUnit = std::stod(attribute(svg, "<svg ", "width")) / [&] {
+    std::istringstream v(attribute(svg, "<svg ", "viewBox"));
+    double a, b, w;
+    v >> a >> b >> w;
+    return w;
+  }();
   const std::string square = "<rect id=\"test-square\"";
   ASSERT_NE(svg.find(square), std::string::npos);
   EXPECT_NEAR(std::stod(attribute(svg, square, "width")) * mmPerUnit, 100, 1e-9);
@@ -167,7 +168,8 @@ TEST(PatternPrint, CutLineIsTheSewLinePlusTheAllowance) {
 
 TEST(PatternPrint, PiecesDoNotOverlapEachOtherOrTheHeader) {
   SewingPattern pattern = test::twoPiecePattern();
-  for (int i = 0; i < 6; ++i) pattern.pieces.push_back(test::rectanglePiece("part", 0.35, 0.25 + 0.05 * i));
+  for (int i = 0; i < 6; ++i)
+    pattern.pieces.push_back(test::rectanglePiece("part", 0.35, 0.25 + 0.05 * i));
   const PrintSheet sheet = layoutPrintSheet(pattern, {});
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> boxes;
   for (const PrintedPiece& p : sheet.pieces) {
@@ -184,10 +186,9 @@ TEST(PatternPrint, PiecesDoNotOverlapEachOtherOrTheHeader) {
   }
   for (size_t i = 0; i < boxes.size(); ++i)
     for (size_t j = i + 1; j < boxes.size(); ++j) {
-      const bool apart = boxes[i].second.x() < boxes[j].first.x() ||
-                         boxes[j].second.x() < boxes[i].first.x() ||
-                         boxes[i].second.y() < boxes[j].first.y() ||
-                         boxes[j].second.y() < boxes[i].first.y();
+      const bool apart =
+          boxes[i].second.x() < boxes[j].first.x() || boxes[j].second.x() < boxes[i].first.x() ||
+          boxes[i].second.y() < boxes[j].first.y() || boxes[j].second.y() < boxes[i].first.y();
       EXPECT_TRUE(apart) << "pieces " << i << " and " << j;
     }
 }

@@ -62,8 +62,8 @@ TEST(PieceOutline, ConcaveLShapeGivesASimpleMitredOutline) {
 
 TEST(PieceOutline, SlotNarrowerThanTwoAllowancesIsBridged) {
   // A U: a 1 cm wide, 10 cm deep slot from the top; a 1 cm allowance closes it.
-  const Points sew{{0, 0}, {0.2, 0}, {0.2, 0.2}, {0.105, 0.2}, {0.105, 0.1},
-                   {0.095, 0.1}, {0.095, 0.2}, {0, 0.2}};
+  const Points sew{{0, 0},       {0.2, 0},     {0.2, 0.2},   {0.105, 0.2},
+                   {0.105, 0.1}, {0.095, 0.1}, {0.095, 0.2}, {0, 0.2}};
   const Points cut = offsetOutline(sew, 0.01);
   expectCleanOffset(sew, cut, 0.01);
   // Nothing of the cut line dips into the slot.
