@@ -43,6 +43,20 @@ bool inside(const Polygon2& polygon, const Eigen::Vector2d& p) {
   return in;
 }
 
+// Without the vertices that lie on the straight line through their neighbours (the buffer keeps
+// the offset of every input vertex, also beside a mitred corner).
+Polygon2 withoutCollinear(const Polygon2& polygon) {
+  Polygon2 out;
+  const size_t n = polygon.size();
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d a = polygon[(i + n - 1) % n] - polygon[i];
+    const Eigen::Vector2d b = polygon[(i + 1) % n] - polygon[i];
+    const double cross = a.x() * b.y() - a.y() * b.x();
+    if (std::abs(cross) > 1e-12 * a.norm() * b.norm() || a.dot(b) > 0) out.push_back(polygon[i]);
+  }
+  return out;
+}
+
 }  // namespace
 
 bool isSimplePolygon(const Polygon2& polygon) {
@@ -78,7 +92,7 @@ Polygon2 offsetOutline(const Polygon2& polygon, double distance, double miterLim
   Polygon2 result;
   for (const BPoint& p : largest->outer()) result.emplace_back(p.x(), p.y());
   result.pop_back();  // the closing point
-  return result;
+  return withoutCollinear(result);
 }
 
 Eigen::Vector2d rayToOutline(const Polygon2& polygon, const Eigen::Vector2d& origin,

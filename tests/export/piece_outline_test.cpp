@@ -44,8 +44,9 @@ TEST(PieceOutline, RectangleOf20By30cmWith1cmIs22By32cm) {
   EXPECT_NEAR(size.x(), 0.22, 1e-12);
   EXPECT_NEAR(size.y(), 0.32, 1e-12);
   EXPECT_NEAR(lowCorner(cut).x(), -0.01, 1e-12);
-  // Mitred corners: the cut line is the full 22 × 32 cm rectangle, not rounded.
+  // Mitred corners: the cut line is the full 22 × 32 cm rectangle, not rounded, 4 corners.
   EXPECT_NEAR(test::signedArea(cut), 0.22 * 0.32, 1e-12);
+  EXPECT_EQ(cut.size(), 4u);
 }
 
 TEST(PieceOutline, ConcaveLShapeGivesASimpleMitredOutline) {
