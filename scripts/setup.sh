@@ -14,6 +14,7 @@ PACKAGES=(
   libnanoflann-dev                    # kd-tree
   libassimp-dev libstb-dev            # scan import, images
   libcgal-dev                         # 2D constrained Delaunay meshing (GPL)
+  libboost-dev                        # Boost.Geometry buffer: seam allowances (also a CGAL dependency)
   libopenvdb-dev libboost-iostreams-dev  # level sets (OpenVDB's CMake module needs boost_iostreams)
   libmeshoptimizer-dev                # decimation
   libmaxflow-dev                      # graph-cut baseline

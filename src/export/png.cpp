@@ -1,16 +1,14 @@
 #include "export/png.h"
 
 #include <png.h>
-#include <unistd.h>
 
-#include <atomic>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <system_error>
 
 #include "core/error.h"
+#include "io/write_mesh.h"
 
 namespace s2p {
 namespace {
@@ -22,15 +20,6 @@ png_image emptyPngImage() {
   std::memset(&image, 0, sizeof(image));
   image.version = PNG_IMAGE_VERSION;
   return image;
-}
-
-// A fresh name beside `path`, so that the final rename stays on one file system.
-std::filesystem::path temporaryPath(const std::filesystem::path& path) {
-  static std::atomic<unsigned> counter{0};
-  std::string name = path.filename().string();
-  name.append(".tmp").append(std::to_string(getpid())).append("_");
-  name.append(std::to_string(counter++));
-  return path.parent_path() / name.insert(0, 1, '.');
 }
 
 }  // namespace
@@ -57,26 +46,7 @@ void writePng(const std::filesystem::path& path, const Image& image) {
     throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " + png.message);
   encoded.resize(bytes);
 
-  const std::filesystem::path tmp = temporaryPath(path);
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) out.write(encoded.data(), static_cast<std::streamsize>(encoded.size()));
-    if (out) out.close();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw IoError("writePng: cannot write " + path.string() +
-                    ": check that the folder exists, is writable and the disk is not full");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw IoError("writePng: cannot move the finished image to " + path.string() + ": " +
-                  ec.message());
-  }
+  writeFileAtomically(path, encoded);
 }
 
 Image readPng(const std::filesystem::path& path) {

@@ -11,14 +11,14 @@
 namespace s2p {
 
 struct SewingNotch {
-  Eigen::Vector2d at = Eigen::Vector2d::Zero();      // on the sew line (m, piece frame)
-  Eigen::Vector2d normal = Eigen::Vector2d::UnitY(); // unit, pointing out of the piece
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();       // on the sew line (m, piece frame)
+  Eigen::Vector2d normal = Eigen::Vector2d::UnitY();  // unit, pointing out of the piece
 };
 
 struct SewingPiece {
-  std::string name;     // "front", "left_sleeve"
-  std::string garment;  // "tshirt"
-  int quantity = 1;     // how many to cut
+  std::string name;       // "front", "left_sleeve"
+  std::string garment;    // "tshirt"
+  int quantity = 1;       // how many to cut
   bool mirrored = false;  // quantity 2 of a symmetric pair: the second one cut mirrored
   // The sew line: a closed polygon (metres, the piece's own frame, counter-clockwise, the last
   // point not repeating the first), dense enough to stand for its curves (≤ 1 mm chord error).
@@ -37,5 +37,10 @@ struct SewingPattern {
   std::string sampleSize = "scan";
   std::vector<SewingPiece> pieces;
 };
+
+// What the writers check first: InputError, naming `writer`, the piece's index and name, when
+// there is no piece, a sew line is not a simple counter-clockwise polygon of ≥ 3 points, a
+// quantity is below 1, or a notch, the grainline or an internal line is not finite.
+void checkSewingPattern(const SewingPattern& pattern, const std::string& writer);
 
 }  // namespace s2p

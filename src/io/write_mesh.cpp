@@ -24,25 +24,25 @@ namespace fs = std::filesystem;
 
 // === Helpers
 
-void writeFileAtomically(const fs::path& path, const std::string& bytes) {
+namespace {
+
+fs::path folderOf(const fs::path& path) {
+  return path.has_parent_path() ? path.parent_path() : fs::path(".");
+}
+
+}  // namespace
+
+void writeFileAtomically(const fs::path& path,
+                         const std::function<void(const fs::path& temporary)>& write) {
   static std::atomic<int> counter{0};
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  const fs::path tmp = dir / fmt::format(".{}.tmp{}_{}", path.filename().string(),
-                                         static_cast<long>(getpid()), counter++);
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw IoError(
-          fmt::format("{}: cannot create a file in {}; check the folder exists and is "
-                      "writable",
-                      path.string(), dir.string()));
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw IoError(fmt::format("{}: writing failed (disk full?)", path.string()));
-    }
+  const fs::path tmp = folderOf(path) / fmt::format(".{}.tmp{}_{}", path.filename().string(),
+                                                    static_cast<long>(getpid()), counter++);
+  try {
+    write(tmp);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
@@ -51,6 +51,20 @@ void writeFileAtomically(const fs::path& path, const std::string& bytes) {
     fs::remove(tmp, ec2);
     throw IoError(fmt::format("{}: cannot replace the file ({})", path.string(), ec.message()));
   }
+}
+
+void writeFileAtomically(const fs::path& path, const std::string& bytes) {
+  writeFileAtomically(path, [&](const fs::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw IoError(
+          fmt::format("{}: cannot create a file in {}; check the folder exists and is "
+                      "writable",
+                      path.string(), folderOf(path).string()));
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) throw IoError(fmt::format("{}: writing failed (disk full?)", path.string()));
+  });
 }
 
 namespace {

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,5 +45,9 @@ void writeObjTextured(const std::filesystem::path& path, const TriMesh& mesh,
 // Writes `bytes` to a temporary file in the target's folder, then renames it onto `path`.
 // Throws IoError (naming the path) when the folder is not writable.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
+// Same for writers that open the file themselves (dxflib): `write` writes a temporary path in the
+// target's folder, which is renamed onto `path` when it returns and removed when it throws.
+void writeFileAtomically(const std::filesystem::path& path,
+                         const std::function<void(const std::filesystem::path& temporary)>& write);
 
 }  // namespace s2p
