@@ -30,6 +30,7 @@ BodyPose resolvePose(const BodyModel& model, const Eigen::VectorXd& shape,
   if (pose == "rest") return standardPose(model, shape, StandardPose::Rest);
   if (pose == "apose") return standardPose(model, shape, StandardPose::APose);
   if (pose == "tpose") return standardPose(model, shape, StandardPose::TPose);
+  if (pose == "drape") return standardPose(model, shape, StandardPose::DrapePose);
   return readPoseJson(pose, model);
 }
 
@@ -97,7 +98,7 @@ void addBodyCommand(CLI::App& app, Commands& out) {
   cmd->add_option("--measurements", o->measurements,
                   "JSON of target measurements in metres (e.g. {\"chest_girth\": 1.0}); the "
                   "shape is fitted to them");
-  cmd->add_option("--pose", o->pose, "rest | apose | tpose | FILE.json (joint: axis-angle)")
+  cmd->add_option("--pose", o->pose, "rest | apose | tpose | drape (A-pose, legs apart: where patterns are placed) | FILE.json (joint: axis-angle)")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->out, "Output folder")->capture_default_str();
   out.push_back({cmd, [o](Progress& progress) { return runBody(*o, progress); }});

@@ -52,8 +52,12 @@ int runDemo(const fs::path& outDir, Progress& progress) {
       "truth.json (garments, true boundaries, body), preview_scan.png and preview_labels.png "
       "(front, back), info.json, report.json;\n{0}/fit/: body_fit.obj, body_full.obj, body.json, "
       "fit_front.png, fit_side.png;\n{0}/segment/: segmentation.ply, upper.obj, lower.obj, "
-      "boundaries.json, garments.json, segment_boundaries.png, segment_labels.png\n",
+      "boundaries.json, garments.json, segment_boundaries.png, segment_labels.png;\n{0}/pattern/: "
+      "pattern.json (GarmentCode), pattern.pdf, pattern.svg (1:1), pattern.dxf (DXF-AAMA), "
+      "panels.obj, stitches.json, body_rest.obj, flat.json, panels.json\n",
       outDir.string(), kDemoPreset);
+  if (!run.patternError)
+    fmt::print("the pattern: {}\n", (outDir / "pattern" / "pattern.png").string());
   return 0;
 }
 

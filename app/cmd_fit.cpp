@@ -85,16 +85,18 @@ int runFit(const FitCommand& cmd, Progress& progress) {
 struct RunCommand {
   FitCommand fit;
   bool faithful = false;
+  PrintOptions print;
 };
 
 int runRun(const RunCommand& cmd, Progress& progress) {
+  requireWritableFolder(cmd.fit.out);
   const LoadedScan loaded = loadScan(cmd.fit.scan, cmd.fit.load, progress);
   const BodyModel model = loadModel(cmd.fit.model, progress);
   SegmentationOptions so;
   so.boundary.faithful = cmd.faithful;
   const RunOutput run =
       runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress);
-  writeRun(cmd.fit.out, loaded, model, run, progress);
+  writeRun(cmd.fit.out, loaded, model, run, progress, cmd.print);
   printRun(run, cmd.fit.out);
   if (run.patternError) std::rethrow_exception(run.patternError);
   return 0;
@@ -110,9 +112,9 @@ std::string patternColumns(const RunOutput& run, const Truth& truth, const Scan&
     row["pattern_error"] = run.patternErrorMessage;
     return fmt::format(" pattern error: {} |||||||", run.patternErrorMessage);
   }
-  writePanels(outDir / "pattern", scan, run.panels);
+  writePanels(outDir / "pattern", scan, run.pattern.panels);
   const PatternScore ps =
-      scorePattern(run.panels, truth, run.fit.fittedInScanFrame(), run.fit.canonicalInScanFrame());
+      scorePattern(run.pattern.panels, truth, run.fit.fittedInScanFrame(), run.fit.canonicalInScanFrame());
   std::string types, sets;
   json garments = json::array();
   for (const GarmentPatternScore& g : ps.garments) {
@@ -277,9 +279,12 @@ void addFitCommands(CLI::App& app, Commands& out) {
   r->fit.out = "run_out";
   auto* run = app.add_subcommand(
       "run",
-      "The pipeline on a scan nobody labelled: fit the body, then segment the garments; writes "
-      "OUT/fit/, OUT/segment/ and OUT/report.json");
+      "The pipeline on a scan nobody labelled: fit the body, segment the garments, make the "
+      "pattern (seams, panels, flattening, placement, stitches); writes OUT/fit/, OUT/segment/, "
+      "OUT/pattern/ (pattern.json for GarmentCode, pattern.pdf/.svg at 1:1, pattern.dxf, "
+      "panels.obj + stitches.json + body_rest.obj for cloth simulators) and OUT/report.json");
   addFitOptions(run, r->fit);
+  addPrintOptions(run, r->print);
   run->add_flag("--faithful", r->faithful,
                 "Algorithm 1 as written, slower (see segment --faithful)");
   out.push_back({run, [r](Progress& progress) { return runRun(*r, progress); }});

@@ -1,5 +1,5 @@
-// panels: the pattern stage's first half (paper §6.1) alone, on a fit + segment output: seam
-// lines, panels, edges and garment types.
+// panels: the pattern stages (paper §6.1–6.3) alone, on a fit + segment output: seam lines,
+// panels, flattening, placement, stitches and the pattern files.
 #include <fmt/format.h>
 
 #include <fstream>
@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/pattern_files.h"
 #include "app/pattern_output.h"
 #include "app/segment_output.h"
 #include "core/error.h"
@@ -25,6 +26,7 @@ struct PanelsCommand {
   std::string segmentation;
   std::string out = "panels_out";
   LoadOptions load;
+  PrintOptions print;
 };
 
 
@@ -54,6 +56,7 @@ TriMesh readGarment(const fs::path& path, const Scan& scan) {
 int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   if (cmd.truth.empty() == cmd.body.empty())
     throw CLI::ValidationError("--truth/--body", "give exactly one of --truth and --body");
+  requireWritableFolder(cmd.out);
   json bodyJson;
   fs::path bodyDir;
   if (!cmd.body.empty()) {
@@ -93,18 +96,19 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
     throw FormatError(fmt::format("{} is not a garment list written by `segment`: {}",
                                   (segDir / "garments.json").string(), e.what()));
   }
-  progress.begin("seams and panels");
-  const PanelsResult r = runPanels(in);
+  const PatternResult r = runPattern(in, body, loaded.scan.mesh, {}, progress);
+  progress.begin("write the pattern files");
+  writePanels(cmd.out, loaded.scan, r.panels);
+  writeFlatPattern(cmd.out, loaded.scan, r.panels, r.flat);
+  writePatternFiles(cmd.out, loaded.scan, r, cmd.print);
+  writeJson(fs::path(cmd.out) / "placement.json", placementToJson(r));
   progress.end();
-  progress.begin("flatten, outline and remesh the panels");
-  const FlatPatternResult flat = runFlatPattern(r, loaded.scan.mesh, BodyFrame(in.canonical));
-  progress.end();
-  writePanels(cmd.out, loaded.scan, r);
-  writeFlatPattern(cmd.out, loaded.scan, r, flat);
-  printPanels(r);
-  printFlatPattern(r, flat);
-  fmt::print("wrote {}/: panels.json, panels_3d.obj, panels.png, flat.json, panels_flat.obj, "
-             "pattern_strain.png\n",
+  printPanels(r.panels);
+  printFlatPattern(r.panels, r.flat);
+  printPatternFiles(r);
+  fmt::print("wrote {}/: pattern.json, pattern.svg, pattern.pdf, pattern.dxf, pattern.png, "
+             "panels.obj, stitches.json, body_rest.obj, placement.json, panels.json, "
+             "panels_3d.obj, panels.png, flat.json, panels_flat.obj, pattern_strain.png\n",
              cmd.out);
   return 0;
 }
@@ -115,10 +119,10 @@ void addPatternCommands(CLI::App& app, Commands& out) {
   auto c = std::make_shared<PanelsCommand>();
   auto* cmd = app.add_subcommand(
       "panels",
-      "Seam lines, panels and garment types (paper §6.1) on a fit + segment output: the body's "
-      "seam features projected onto each cut garment, the garment cut into disk-shaped panels, "
-      "their edges tagged as openings or seams with partners; writes panels.json, "
-      "panels_3d.obj and panels.png");
+      "The pattern (paper §6) on a fit + segment output: seam lines, disk-shaped panels with "
+      "tagged edges, garment types, flattening, Bézier outlines, remeshing, placement around the "
+      "rest body and stitches; writes pattern.json (GarmentCode), pattern.svg/.pdf (1:1), "
+      "pattern.dxf (DXF-AAMA), panels.obj + stitches.json + body_rest.obj and the figures");
   cmd->add_option("scan", c->scan, "The scan the segmentation was made on")->required();
   cmd->add_option("--body", c->body, "body.json from `fit` (its body_full.obj beside it)");
   cmd->add_option("--truth", c->truth, "A synthetic scan's truth.json: use its true body");
@@ -127,6 +131,7 @@ void addPatternCommands(CLI::App& app, Commands& out) {
       ->required();
   cmd->add_option("-o,--out", c->out, "Output folder (default panels_out)");
   addLoadOptions(cmd, c->load);
+  addPrintOptions(cmd, c->print);
   out.push_back({cmd, [c](Progress& progress) { return runPanelsCommand(*c, progress); }});
 }
 

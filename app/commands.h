@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
+
+#include "export/pattern_print.h"
 #include <string>
 #include <vector>
 
@@ -66,6 +68,11 @@ std::vector<View> parseViews(const std::string& list, const std::string& option 
 Image renderScan(const Scan& scan, const std::vector<View>& views, int heightPx);
 MeshAttributes colourAttributes(const Scan& scan);
 void writeJson(const std::filesystem::path& path, const nlohmann::json& j);
+// Creates `dir` and checks that a file can be written in it, before any work: IoError naming
+// the folder otherwise.
+void requireWritableFolder(const std::filesystem::path& dir);
+// --seam-allowance MM and --paper a4|letter for the pattern files.
+void addPrintOptions(CLI::App* cmd, PrintOptions& print);
 // Reads a JSON file; IoError when it cannot be read, FormatError (naming `what`) when not JSON.
 nlohmann::json readJsonFile(const std::filesystem::path& path, const std::string& what);
 

@@ -255,4 +255,38 @@ std::vector<fs::path> suiteTruths(const fs::path& suiteDir, const std::string& o
   return truths;
 }
 
+void requireWritableFolder(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  const fs::path probe = dir / ".scan2pattern_write_test";
+  {
+    std::ofstream f(probe);
+    if (ec || !f || !(f << "x") || !f.flush())
+      throw IoError(fmt::format("cannot write into the output folder {}: choose another with -o "
+                                "or make it writable",
+                                dir.string()));
+  }
+  fs::remove(probe, ec);
+}
+
+void addPrintOptions(CLI::App* cmd, PrintOptions& print) {
+  cmd->add_option_function<double>(
+         "--seam-allowance",
+         [&print](double mm) {
+           if (!(mm >= 0 && mm <= 100))
+             throw CLI::ValidationError("--seam-allowance", "must be between 0 and 100 mm");
+           print.seamAllowance = mm / 1000;
+         },
+         "Seam allowance of the cut line in pattern.svg/.pdf/.dxf, mm (default 10; 0: cut on "
+         "the sew line)");
+  cmd->add_option_function<std::string>(
+         "--paper",
+         [&print](const std::string& p) {
+           if (p == "a4") print.paper = Paper::A4;
+           else if (p == "letter") print.paper = Paper::Letter;
+           else throw CLI::ValidationError("--paper", "must be a4 or letter");
+         },
+         "Paper the PDF is tiled on for home printing: a4 (default) or letter");
+}
+
 }  // namespace s2p::app

@@ -108,9 +108,4 @@ void printFit(const ScanFit& fit) {
   for (const std::string& w : fit.warnings) fmt::print("  warning: {}\n", w);
 }
 
-PosedFeatures fittedFeatures(const BodyModel& model, const ScanFit& fit) {
-  return {fit.fullInScanFrame(), computeFeatures(model, fit.fit.params.shape),
-          fit.canonicalInScanFrame()};
-}
-
 }  // namespace s2p::app

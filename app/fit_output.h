@@ -23,8 +23,5 @@ void writeFit(const std::filesystem::path& dir, const Scan& scan, const BodyMode
               const ScanFit& fit);
 void printFit(const ScanFit& fit);
 
-// The full fit in the scan's normalised frame with the feature set of the fitted shape: what
-// segmentScan takes.
-PosedFeatures fittedFeatures(const BodyModel& model, const ScanFit& fit);
 
 }  // namespace s2p::app

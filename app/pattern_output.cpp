@@ -41,22 +41,6 @@ Rgb panelColour(int i) {
 
 }  // namespace
 
-PanelsInput panelsInput(const Segmentation& segmentation, const PosedFeatures& body) {
-  PanelsInput in;
-  for (const GarmentPiece& g : segmentation.garments) {
-    GarmentKind kind = GarmentKind::Upper;
-    if (g.name == "onepiece" || segmentation.layout == GarmentLayout::OnePiece)
-      kind = GarmentKind::OnePiece;
-    else if (g.label == Label::Lower)
-      kind = GarmentKind::Lower;
-    in.garments.push_back({g.name, kind, g.mesh, g.faceOrigin});
-  }
-  in.body = body.body;
-  in.features = body.features;
-  in.canonical = body.canonical;
-  return in;
-}
-
 json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput) {
   json garments = json::array();
   for (const GarmentPanels& g : r.garments) {
@@ -223,6 +207,18 @@ std::string pieceName(const Panel& p) { return p.garment + " " + p.name; }
 
 }  // namespace
 
+Eigen::MatrixX3d remeshedColours(const Scan& scan, const FlatPanel& fp) {
+  const int n = static_cast<int>(fp.remeshed.V.rows());
+  Eigen::MatrixX3d colour = Eigen::MatrixX3d::Constant(n, 3, 0.75);
+  if (scan.colour.rows() != scan.mesh.numVertices()) return colour;
+  for (int v = 0; v < n; ++v) {
+    colour.row(v).setZero();
+    for (int k = 0; k < 3; ++k)
+      colour.row(v) += fp.scanBary(v, k) * scan.colour.row(scan.mesh.F(fp.scanFace[v], k));
+  }
+  return colour;
+}
+
 json flatPatternToJson(const PanelsResult& panels, const FlatPatternResult& flat) {
   json out = json::array();
   for (const FlatPanel& fp : flat.panels) {
@@ -322,15 +318,12 @@ void writeFlatPattern(const fs::path& dir, const Scan& scan, const PanelsResult&
       const Eigen::Vector2d q = fp.remeshed.V.row(v).transpose() + offset.row(static_cast<int>(i)).transpose();
       all.V.row(v0 + v) << q.x(), q.y(), 0;
       const int f = fp.scanFace[v];
-      colour.row(v0 + v).setZero();
       Eigen::Vector2d uv = Eigen::Vector2d::Zero();
-      for (int k = 0; k < 3; ++k) {
-        if (scan.colour.rows() == scan.mesh.numVertices())
-          colour.row(v0 + v) += fp.scanBary(v, k) * scan.colour.row(scan.mesh.F(f, k));
+      for (int k = 0; k < 3; ++k)
         if (texture) uv += fp.scanBary(v, k) * scan.texture->UV.row(scan.texture->FUV(f, k)).transpose();
-      }
       if (texture) UV.row(v0 + v) = uv.transpose();
     }
+    colour.middleRows(v0, fp.remeshed.V.rows()) = remeshedColours(scan, fp);
     for (int f = 0; f < fp.remeshed.F.rows(); ++f) {
       all.F.row(f0 + f) = fp.remeshed.F.row(f).array() + v0;
       group[f0 + f] = static_cast<int>(i);

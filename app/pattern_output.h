@@ -13,9 +13,6 @@
 
 namespace s2p::app {
 
-// The segmentation's garments with the posed body, its features and canonical points.
-PanelsInput panelsInput(const Segmentation& segmentation, const PosedFeatures& body);
-
 // All coordinates in the scan file's frame (toInput).
 nlohmann::json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput);
 
@@ -28,6 +25,9 @@ nlohmann::json flatPatternToJson(const PanelsResult& panels, const FlatPatternRe
 // for a textured scan, texture coordinates from the scan), pattern_strain.png, flat.json.
 void writeFlatPattern(const std::filesystem::path& dir, const Scan& scan, const PanelsResult& panels,
                       const FlatPatternResult& flat);
+// The scan's colour at every remeshed vertex of a flattened panel (#V×3 sRGB; light grey when
+// the scan has no colour).
+Eigen::MatrixX3d remeshedColours(const Scan& scan, const FlatPanel& fp);
 void printFlatPattern(const PanelsResult& panels, const FlatPatternResult& flat);
 
 }  // namespace s2p::app

@@ -7,6 +7,7 @@
 #include "core/error.h"
 
 #include "app/fit_output.h"
+#include "app/pattern_files.h"
 #include "app/pattern_output.h"
 
 namespace fs = std::filesystem;
@@ -14,12 +15,6 @@ using nlohmann::json;
 
 namespace s2p::app {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 json segmentationSummary(const Segmentation& s) {
   json garments = json::array();
@@ -42,31 +37,12 @@ json segmentationSummary(const Segmentation& s) {
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
                       Progress& progress) {
+  PipelineOptions options;
+  options.fit = fitOptions;
+  options.segment = segmentOptions;
   RunOutput out;
-  auto t = Clock::now();
-  out.fit = fitScan(scan.scan.mesh, model, fitOptions, &progress);
-  out.stages.emplace_back("fit", secondsSince(t));
-  t = Clock::now();
-  const PosedFeatures body = fittedFeatures(model, out.fit);
-  out.segment = {segmentScan(scan.scan.mesh, scan.scan.colour, body.body, body.features,
-                             segmentOptions, &progress),
-                 "curve"};
-  out.stages.emplace_back("segment", secondsSince(t));
-  t = Clock::now();
-  progress.begin("seams and panels");
-  try {
-    out.panels = runPanels(panelsInput(out.segment.segmentation, body));
-    out.stages.emplace_back("panels", secondsSince(t));
-    t = Clock::now();
-    progress.end();
-    progress.begin("flatten, outline and remesh the panels");
-    out.flat = runFlatPattern(out.panels, scan.scan.mesh, BodyFrame(body.canonical));
-    out.stages.emplace_back("flatten", secondsSince(t));
-  } catch (const Error& e) {
-    out.patternError = std::current_exception();
-    out.patternErrorMessage = e.what();
-  }
-  progress.end();
+  static_cast<PipelineResult&>(out) = s2p::runPipeline(scan.scan, model, options, progress);
+  out.segment = {std::move(out.segmentation), "curve"};
   return out;
 }
 
@@ -77,11 +53,14 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
   for (const auto& w : scan.read.warnings) warnings.push_back(w);
   for (const auto& w : fit.warnings) warnings.push_back("fit: " + w);
   for (const auto& n : seg.notes) warnings.push_back("segment: " + n);
-  for (const auto& w : run.panels.warnings) warnings.push_back("pattern: " + w);
+  for (const auto& w : run.pattern.panels.warnings) warnings.push_back("pattern: " + w);
+  for (const auto& w : run.pattern.flat.warnings) warnings.push_back("pattern: " + w);
+  for (const auto& w : run.pattern.placement.warnings) warnings.push_back("placement: " + w);
+  for (const auto& w : run.pattern.stitches.warnings) warnings.push_back("stitches: " + w);
   json pattern = json::array();
-  for (const GarmentPanels& g : run.panels.garments) {
+  for (const GarmentPanels& g : run.pattern.panels.garments) {
     json panels = json::array();
-    for (int p : g.panels) panels.push_back(run.panels.panels[p].name);
+    for (int p : g.panels) panels.push_back(run.pattern.panels.panels[p].name);
     pattern.push_back({{"garment", g.name}, {"type", g.type}, {"panels", panels}, {"notes", g.notes}});
   }
   json stages = json::array();
@@ -101,25 +80,30 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
           {"found", segmentationSummary(seg)},
           {"pattern", pattern},
           {"pattern_error", run.patternErrorMessage},
-          {"flat_pattern", flatPatternToJson(run.panels, run.flat)},
+          {"flat_pattern", flatPatternToJson(run.pattern.panels, run.pattern.flat)},
+          {"placement", placementToJson(run.pattern)},
           {"warnings", warnings},
           {"outputs", {{"fit", "fit/: body_fit.obj, body_full.obj, body.json, fit_front.png, "
                                "fit_side.png"},
                        {"segment", "segment/: segmentation.ply, " + garmentFileList(seg) +
                                        "garments.json, boundaries.json, segment_boundaries.png, "
                                        "segment_labels.png"},
-                       {"pattern", "pattern/: panels.json, panels_3d.obj, panels.png, flat.json, "
-                                   "panels_flat.obj, pattern_strain.png"}}}};
+                       {"pattern", "pattern/: pattern.json (GarmentCode), pattern.svg, "
+                                   "pattern.pdf, pattern.dxf, pattern.png, panels.obj, "
+                                   "stitches.json, body_rest.obj, panels.json, panels_3d.obj, "
+                                   "panels.png, flat.json, panels_flat.obj, "
+                                   "pattern_strain.png"}}}};
 }
 
 void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& model,
-              const RunOutput& run, Progress& progress) {
+              const RunOutput& run, Progress& progress, const PrintOptions& print) {
   progress.begin("write outputs");
   writeFit(dir / "fit", scan.scan, model, run.fit);
   writeSegmentation(dir / "segment", scan.scan, run.segment);
   if (!run.patternError) {
-    writePanels(dir / "pattern", scan.scan, run.panels);
-    writeFlatPattern(dir / "pattern", scan.scan, run.panels, run.flat);
+    writePanels(dir / "pattern", scan.scan, run.pattern.panels);
+    writeFlatPattern(dir / "pattern", scan.scan, run.pattern.panels, run.pattern.flat);
+    writePatternFiles(dir / "pattern", scan.scan, run.pattern, print);
   }
   writeJson(dir / "report.json", runReport(scan, model, run));
   progress.end();
@@ -128,11 +112,13 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
 void printRun(const RunOutput& run, const fs::path& dir) {
   printFit(run.fit);
   printSegmentation(run.segment.segmentation);
-  printPanels(run.panels);
-  printFlatPattern(run.panels, run.flat);
+  printPanels(run.pattern.panels);
+  printFlatPattern(run.pattern.panels, run.pattern.flat);
+  printPatternFiles(run.pattern);
   fmt::print("wrote {0}/report.json; pictures: {0}/fit/fit_front.png, {0}/fit/fit_side.png, "
              "{0}/segment/segment_boundaries.png, {0}/segment/segment_labels.png, "
-             "{0}/pattern/panels.png, {0}/pattern/pattern_strain.png\n",
+             "{0}/pattern/panels.png, {0}/pattern/pattern_strain.png; the pattern: "
+             "{0}/pattern/pattern.png, pattern.pdf, pattern.svg, pattern.dxf, pattern.json\n",
              dir.string());
 }
 

@@ -1,5 +1,5 @@
-// The pipeline on a scan nobody labelled, as `run` and `demo` perform it: fit the body, then
-// segment the garments with the full fit's feature points; every stage timed for report.json.
+// The pipeline (src/pipeline) on a scan nobody labelled, as `run` and `demo` perform it, and
+// the files it writes: OUT/fit/, OUT/segment/, OUT/pattern/ and report.json.
 #pragma once
 
 #include <exception>
@@ -12,21 +12,15 @@
 #include "app/commands.h"
 #include "app/segment_output.h"
 #include "fit/scan_fit.h"
-#include "pattern/flat_pattern.h"
-#include "pattern/panels.h"
+#include "export/pattern_print.h"
+#include "pipeline/pipeline.h"
 
 namespace s2p::app {
 
-struct RunOutput {
-  ScanFit fit;
+// The library's result (pipeline.h), with the segmentation moved into `segment` (what the
+// segmentation writer takes).
+struct RunOutput : PipelineResult {
   SegmentOutput segment;
-  PanelsResult panels;    // seams, panels, garment types (§6.1)
-  FlatPatternResult flat;  // flattened, outlined, remeshed panels (§6.2)
-  // The pattern stage's failure, if any: the fit and segmentation are still written (to look
-  // at), then the command rethrows it for its exit code.
-  std::exception_ptr patternError;
-  std::string patternErrorMessage;
-  std::vector<std::pair<std::string, double>> stages;  // (stage, seconds): fit, segment, panels
 };
 
 // Computes everything and writes nothing (bad input fails before any output exists).
@@ -38,7 +32,7 @@ RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
 // OUT/report.json: stage timings,
 // warnings and what was found (garments, one-piece, occlusion).
 void writeRun(const std::filesystem::path& dir, const LoadedScan& scan, const BodyModel& model,
-              const RunOutput& run, Progress& progress);
+              const RunOutput& run, Progress& progress, const PrintOptions& print = {});
 nlohmann::json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& run);
 void printRun(const RunOutput& run, const std::filesystem::path& dir);
 

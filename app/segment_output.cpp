@@ -88,6 +88,9 @@ PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& 
   BodyFromJson b = bodyFromJson(bodyJson);
   PosedFeatures out{std::move(b.posed.mesh), std::move(b.features),
                     toFrame(toScanFile(bodyJson), b.posed.canonical)};
+  out.params = b.params;
+  out.toGarments = scan.toInputFrame.inverse() * toScanFile(bodyJson);
+  out.model = std::make_shared<const BodyModel>(std::move(b.model));
   const bool full = bodyJson.contains("full_mesh") && bodyJson["full_mesh"].is_string() &&
                     !jsonDir.empty();
   const fs::path fullPath = full ? jsonDir / bodyJson["full_mesh"].get<std::string>() : fs::path();

@@ -8,6 +8,7 @@
 
 #include "eval/evaluation.h"
 #include "io/scan.h"
+#include "pipeline/pipeline.h"
 #include "segment/segmentation.h"
 
 namespace s2p::app {
@@ -16,11 +17,7 @@ namespace s2p::app {
 // frame of `scan`, with its feature set. The posed body is in the scan file's frame, or is taken
 // there by "to_scan_file" (a fit's body.json); a fit's "full_mesh" (its non-rigid fit, a file
 // relative to `jsonDir`) replaces the posed body when `jsonDir` is given and the file exists.
-struct PosedFeatures {
-  TriMesh body;
-  FeatureSet features;
-  Eigen::MatrixX3d canonical;  // kNumCanonical×3, the posed body's canonical points
-};
+// The body model, its parameters and their frame go with it, so that the pattern can be placed.
 PosedFeatures poseBodyForScan(const nlohmann::json& bodyJson, const Scan& scan,
                               Progress& progress, const std::filesystem::path& jsonDir = {});
 

@@ -139,8 +139,9 @@ void writeSheetPng(const std::filesystem::path& path, const std::vector<SheetPie
     cairo_move_to(cr, c.x() - ext.width / 2, c.y());
     cairo_show_text(cr, piece.label.c_str());
   }
-  // Legend: a colour bar with its ends labelled.
+  // Legend: a colour bar with its ends labelled (none without colours).
   const double y0 = h - legendPx + 15, barW = std::min(400, w - 40);
+  if (!legend.colours.empty()) {
   for (int i = 0; i < static_cast<int>(barW); ++i) {
     setColour(cr, colourAt(legend.colours, i / barW));
     cairo_rectangle(cr, 20 + i, y0, 1, 18);
@@ -155,6 +156,7 @@ void writeSheetPng(const std::filesystem::path& path, const std::vector<SheetPie
   cairo_show_text(cr, maxText.c_str());
   cairo_move_to(cr, 40 + barW, y0 + 14);
   cairo_show_text(cr, legend.title.c_str());
+  }
   std::string bytes;
   if (cairo_surface_write_to_png_stream(surface.get(), appendToString, &bytes) != CAIRO_STATUS_SUCCESS)
     throw IoError(fmt::format("cannot encode {} as PNG", path.string()));

@@ -35,7 +35,7 @@ Eigen::MatrixX2d layoutPieces(const std::vector<SheetPiece>& pieces, double rowW
                               double gap = 0.03);
 
 // PNG of the laid-out pieces at `pixelsPerMetre` (capped so the image stays below 8000 px),
-// with the legend at the bottom. Written atomically; IoError when the folder is not writable.
+// with the legend at the bottom (left blank when the legend has no colours). Written atomically; IoError when the folder is not writable.
 void writeSheetPng(const std::filesystem::path& path, const std::vector<SheetPiece>& pieces,
                    const SheetLegend& legend, double pixelsPerMetre = 400);
 

@@ -400,4 +400,69 @@ double maxDeviation(const BezierChain& chain, const Eigen::MatrixX2d& polyline) 
   return worst;
 }
 
+std::vector<double> jointFractions(const BezierChain& chain) {
+  std::vector<double> out;
+  const double total = chain.length();
+  if (!(total > 0.0)) return out;
+  double run = 0.0;
+  for (int k = 0; k + 1 < chain.size(); ++k) {
+    run += chain.segments[k].length();
+    out.push_back(run / total);
+  }
+  return out;
+}
+
+namespace {
+
+// The parameter of `segment` at arc length s from its start (bisection on the monotone length).
+double parameterAtLength(const CubicBezier& segment, double s) {
+  double lo = 0.0, hi = 1.0;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (segment.length(0.0, mid) < s ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// De Casteljau split of a segment at t: the pieces [0, t] and [t, 1].
+std::pair<CubicBezier, CubicBezier> splitSegment(const CubicBezier& b, double t) {
+  const Eigen::Vector2d p01 = b.p[0] + t * (b.p[1] - b.p[0]);
+  const Eigen::Vector2d p12 = b.p[1] + t * (b.p[2] - b.p[1]);
+  const Eigen::Vector2d p23 = b.p[2] + t * (b.p[3] - b.p[2]);
+  const Eigen::Vector2d p012 = p01 + t * (p12 - p01), p123 = p12 + t * (p23 - p12);
+  const Eigen::Vector2d mid = p012 + t * (p123 - p012);
+  return {CubicBezier{{b.p[0], p01, p012, mid}}, CubicBezier{{mid, p123, p23, b.p[3]}}};
+}
+
+}  // namespace
+
+BezierChain splitChainAt(const BezierChain& chain, std::vector<double> fractions) {
+  constexpr double kMerge = 1e-4;
+  const double total = chain.length();
+  if (!(total > 0.0) || chain.segments.empty()) return chain;
+  std::sort(fractions.begin(), fractions.end());
+  const std::vector<double> joints = jointFractions(chain);
+  BezierChain out;
+  double start = 0.0;  // arc-length fraction where the current segment begins
+  size_t next = 0;
+  for (int k = 0; k < chain.size(); ++k) {
+    const double end = k + 1 < chain.size() ? joints[k] : 1.0;
+    CubicBezier rest = chain.segments[k];
+    double restStart = start;  // fraction where `rest` begins
+    for (; next < fractions.size() && fractions[next] < end - kMerge; ++next) {
+      const double f = fractions[next];
+      if (f <= restStart + kMerge) continue;
+      const double t = parameterAtLength(rest, (f - restStart) * total);
+      auto [head, tail] = splitSegment(rest, t);
+      out.segments.push_back(head);
+      rest = tail;
+      restStart = f;
+    }
+    while (next < fractions.size() && fractions[next] <= end + kMerge) ++next;
+    out.segments.push_back(rest);
+    start = end;
+  }
+  return out;
+}
+
 }  // namespace s2p

@@ -65,6 +65,14 @@ std::vector<BezierChain> fitOutline(const Eigen::MatrixX2d& points, const std::v
 // the first and last exactly the chain's end points. #count×2.
 Eigen::MatrixX2d resampleChain(const BezierChain& chain, int count);
 
+// Arc-length fractions (0, 1) of the joints between the chain's segments, in order.
+std::vector<double> jointFractions(const BezierChain& chain);
+
+// The same curve cut (exactly, by de Casteljau) at arc-length fractions `fractions` (any
+// order; those within 1e-4 of a joint, of 0 or 1 or of each other are merged): the chain of
+// a seam edge made to share its partner's breaks, so that each piece can be stitched alone.
+BezierChain splitChainAt(const BezierChain& chain, std::vector<double> fractions);
+
 // Largest distance between the chain and the polyline, both ways: from every polyline point
 // to the chain and from dense samples of the chain to the polyline (a Hausdorff distance).
 double maxDeviation(const BezierChain& chain, const Eigen::MatrixX2d& polyline);

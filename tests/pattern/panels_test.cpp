@@ -3,13 +3,18 @@
 // paired sign-point removal, and the documented errors.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
+#include <set>
 
 #include "core/error.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 #include "core/shapes.h"
+#include "pattern/flat_pattern.h"
+#include "pattern/garmentcode.h"
 #include "pattern/panels.h"
+#include "pattern/placement.h"
 #include "segment/isoline.h"
 
 namespace s2p {
@@ -383,3 +388,152 @@ TEST(Panels, AGarmentThatMakesNoPatternLeavesTheOthersTheirs) {
 
 }  // namespace
 }  // namespace s2p
+
+// === The tube's pattern: two rectangles, flattened, stitched, written for GarmentCode
+
+struct TubePattern {
+  PanelsResult panels;
+  FlatPatternResult flat;
+};
+
+TubePattern tubePattern() {
+  const TriMesh tube = torsoTube();
+  const PanelsInput in = inputFor(tube, GarmentKind::Upper);
+  TubePattern t;
+  panelizeGarment(in, 0, {seam(SeamKind::FrontBack, tube.V.col(2), tube)}, {}, t.panels);
+  t.flat = runFlatPattern(t.panels, tube, BodyFrame(in.canonical));
+  return t;
+}
+
+TEST(Stitches, TwoRectanglesOfATubeAreSewnVertexToVertexWhereTheyMet) {
+  const TubePattern t = tubePattern();
+  ASSERT_EQ(t.flat.panels.size(), 2u);
+  for (const FlatPanel& fp : t.flat.panels) ASSERT_TRUE(fp.error.empty()) << fp.error;
+  const StitchSet s = makeStitches(t.panels, t.flat, nullptr);
+  EXPECT_TRUE(s.warnings.empty());
+  ASSERT_EQ(s.stitches.size(), 2u);  // the two sides
+  std::set<std::pair<int, int>> edges;
+  for (const Stitch& st : s.stitches) {
+    EXPECT_TRUE(edges.insert({st.panelA, st.edgeA}).second);
+    EXPECT_TRUE(edges.insert({st.panelB, st.edgeB}).second);
+    // A rectangle's side is 0.3 m; both sides of the seam have it.
+    EXPECT_NEAR(st.lengthA, 0.3, 1e-3);
+    EXPECT_LT(st.mismatch(), 2e-4);
+    ASSERT_GE(st.vertices.size(), 30u);  // 10 mm remeshing
+    // Where the panels met on the tube, the paired vertices are one point.
+    for (const auto& [a, b] : st.vertices)
+      EXPECT_LT((t.flat.panels[st.panelA].position.row(a) -
+                 t.flat.panels[st.panelB].position.row(b)).norm(), 1e-3);
+    EXPECT_LT(st.scanGap, 1e-3);
+  }
+}
+
+TEST(GarmentCode, EulerAnglesAreGarmentCodesRzRyRx) {
+  for (const Eigen::Vector3d deg : {Eigen::Vector3d(10, -20, 30), Eigen::Vector3d(0, 180, 0),
+                                    Eigen::Vector3d(-75, 40, 160)}) {
+    const Eigen::Vector3d r = deg * M_PI / 180;
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(r.y(), Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(r.x(), Eigen::Vector3d::UnitX()))
+                                  .toRotationMatrix();
+    const Eigen::Vector3d e = eulerXyzDegrees(R) * M_PI / 180;
+    const Eigen::Matrix3d back = (Eigen::AngleAxisd(e.z(), Eigen::Vector3d::UnitZ()) *
+                                  Eigen::AngleAxisd(e.y(), Eigen::Vector3d::UnitY()) *
+                                  Eigen::AngleAxisd(e.x(), Eigen::Vector3d::UnitX()))
+                                     .toRotationMatrix();
+    EXPECT_LT((back - R).norm(), 1e-9) << deg.transpose();
+  }
+}
+
+TEST(GarmentCode, ATubePatternRoundTripsThroughTheSpecification) {
+  const TubePattern t = tubePattern();
+  const StitchSet stitches = makeStitches(t.panels, t.flat, nullptr);
+  Placement placement;
+  placement.panels.resize(2);
+  for (int p = 0; p < 2; ++p) {
+    placement.panels[p].placed = true;
+    placement.panels[p].t = Eigen::Vector3d(0, 1.2, p == 0 ? 0.2 : -0.2);
+    if (t.panels.panels[p].name == "back")
+      placement.panels[p].R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  }
+  const nlohmann::json spec = garmentCodeSpecification(t.panels, t.flat, placement, stitches);
+  ASSERT_TRUE(spec.contains("parameters") && spec["parameters"].is_object());
+  ASSERT_TRUE(spec.contains("parameter_order") && spec["parameter_order"].is_array());
+  EXPECT_EQ(spec["properties"]["units_in_meter"], 100);
+  EXPECT_EQ(spec["properties"]["curvature_coords"], "relative");
+  const nlohmann::json& panels = spec["pattern"]["panels"];
+  ASSERT_EQ(panels.size(), 2u);
+  // Rebuild every edge's curve from the file (cm, relative controls) and measure it.
+  auto edgeCurve = [&](const std::string& panel, int edge) {
+    const nlohmann::json& p = panels.at(panel);
+    const nlohmann::json& e = p["edges"][edge];
+    const auto vtx = [&](int i) {
+      return Eigen::Vector2d(p["vertices"][i][0].get<double>(), p["vertices"][i][1].get<double>()) / 100;
+    };
+    const Eigen::Vector2d a = vtx(e["endpoints"][0]), b = vtx(e["endpoints"][1]);
+    CubicBezier c{{a, a + (b - a) / 3, a + 2 * (b - a) / 3, b}};
+    if (e.contains("curvature")) {
+      const Eigen::Vector2d d = b - a, perp(-d.y(), d.x());
+      for (int k = 0; k < 2; ++k) {
+        const nlohmann::json& q = e["curvature"]["params"][k];
+        c.p[1 + k] = a + q[0].get<double>() * d + q[1].get<double>() * perp;
+      }
+    }
+    return c;
+  };
+  for (const auto& [name, p] : panels.items()) {
+    const size_t n = p["vertices"].size();
+    ASSERT_EQ(p["edges"].size(), n) << name;
+    for (size_t i = 0; i < n; ++i) {  // a closed loop, edge i from vertex i to i + 1
+      EXPECT_EQ(p["edges"][i]["endpoints"][0], i);
+      EXPECT_EQ(p["edges"][i]["endpoints"][1], (i + 1) % n);
+    }
+  }
+  double perimeter = 0;
+  for (int i = 0; i < static_cast<int>(panels.at("upper_front")["edges"].size()); ++i)
+    perimeter += edgeCurve("upper_front", i).length();
+  double chains = 0;
+  for (const Panel& p : t.panels.panels)
+    if (p.name == "front")
+      for (const FlatEdge& e : t.flat.panels[&p - &t.panels.panels[0]].edges) chains += e.chain.length();
+  EXPECT_NEAR(perimeter, chains, 1e-6);
+  // Stitches: edge to edge, each edge once, both sides of equal length, every side seam covered.
+  std::set<std::pair<std::string, int>> used;
+  double stitched = 0;
+  for (const nlohmann::json& s : spec["pattern"]["stitches"]) {
+    ASSERT_EQ(s.size(), 2u);
+    const double la = edgeCurve(s[0]["panel"], s[0]["edge"]).length();
+    const double lb = edgeCurve(s[1]["panel"], s[1]["edge"]).length();
+    EXPECT_NEAR(la, lb, 2e-4);
+    stitched += la;
+    for (int k = 0; k < 2; ++k)
+      EXPECT_TRUE(used.insert({s[k]["panel"].get<std::string>(), s[k]["edge"].get<int>()}).second);
+  }
+  EXPECT_NEAR(stitched, 0.6, 2e-3);  // two sides of 0.3 m
+  // Placement: a vertex lands at R·(x, y, 0) + t in cm.
+  const nlohmann::json& back = panels.at("upper_back");
+  EXPECT_NEAR(back["translation"][2].get<double>(), -20.0, 1e-9);
+  EXPECT_NEAR(std::abs(back["rotation"][1].get<double>()) + std::abs(back["rotation"][0].get<double>()),
+              180.0, 1e-6);
+}
+
+TEST(BezierOutline, SplitAtFractionsKeepsTheCurve) {
+  BezierChain c;
+  c.segments.push_back({{Eigen::Vector2d(0, 0), Eigen::Vector2d(0.1, 0.05), Eigen::Vector2d(0.2, 0.05),
+                         Eigen::Vector2d(0.3, 0)}});
+  c.segments.push_back({{Eigen::Vector2d(0.3, 0), Eigen::Vector2d(0.4, -0.05), Eigen::Vector2d(0.5, 0),
+                         Eigen::Vector2d(0.55, 0.1)}});
+  const std::vector<double> joints = jointFractions(c);
+  ASSERT_EQ(joints.size(), 1u);
+  const BezierChain s = splitChainAt(c, {0.25, joints[0] + 1e-6, 0.8});
+  ASSERT_EQ(s.size(), 4);  // 0.25 and 0.8 added, the one at the joint merged with it
+  EXPECT_NEAR(s.length(), c.length(), 1e-9);
+  const std::vector<double> f = jointFractions(s);
+  EXPECT_NEAR(f[0], 0.25, 1e-9);
+  EXPECT_NEAR(f[1], joints[0], 1e-9);
+  EXPECT_NEAR(f[2], 0.8, 1e-9);
+  for (int k = 0; k <= 40; ++k) {  // every point of the split chain lies on the original
+    const Eigen::Vector2d p = s.point(4.0 * k / 40.0);
+    EXPECT_LT(distanceToChain(c, p), 1e-9);
+  }
+}

@@ -1,0 +1,97 @@
+#include "pipeline/pipeline.h"
+
+#include <chrono>
+
+#include "core/error.h"
+
+namespace s2p {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+}  // namespace
+
+PosedFeatures fittedFeatures(const BodyModel& model, const ScanFit& fit) {
+  PosedFeatures out{fit.fullInScanFrame(), computeFeatures(model, fit.fit.params.shape),
+                    fit.canonicalInScanFrame()};
+  out.model = std::shared_ptr<const BodyModel>(&model, [](const BodyModel*) {});
+  out.params = fit.fit.params;
+  out.toGarments = fit.toScan;
+  return out;
+}
+
+PanelsInput panelsInput(const Segmentation& segmentation, const PosedFeatures& body) {
+  PanelsInput in;
+  for (const GarmentPiece& g : segmentation.garments) {
+    GarmentKind kind = GarmentKind::Upper;
+    if (g.name == "onepiece" || segmentation.layout == GarmentLayout::OnePiece)
+      kind = GarmentKind::OnePiece;
+    else if (g.label == Label::Lower)
+      kind = GarmentKind::Lower;
+    in.garments.push_back({g.name, kind, g.mesh, g.faceOrigin});
+  }
+  in.body = body.body;
+  in.features = body.features;
+  in.canonical = body.canonical;
+  return in;
+}
+
+PatternResult runPattern(const PanelsInput& input, const PosedFeatures& body, const TriMesh& scan,
+                         const PatternOptions& options, Progress& progress) {
+  PatternResult r;
+  auto t = Clock::now();
+  progress.begin("seams and panels");
+  r.panels = runPanels(input, options.panels);
+  progress.end();
+  r.stages.emplace_back("panels", secondsSince(t));
+  t = Clock::now();
+  progress.begin("flatten, outline and remesh the panels");
+  r.flat = runFlatPattern(r.panels, scan, BodyFrame(input.canonical), options.flat);
+  progress.end();
+  r.stages.emplace_back("flatten", secondsSince(t));
+  t = Clock::now();
+  progress.begin("place the panels around the rest body, stitches");
+  const Placement* placement = nullptr;
+  if (body.model) {
+    PlacementInput pin{body.model.get(), body.params, body.toGarments, {}};
+    // The full fit back in the parameters' frame, where placement unposes it.
+    pin.full = body.body;
+    pin.full.V = (body.toGarments.inverse() * body.body.V.transpose()).transpose();
+    r.placement = placePanels(r.panels, r.flat, pin, options.placement);
+    placement = &r.placement;
+  }
+  r.stitches = makeStitches(r.panels, r.flat, placement);
+  progress.end();
+  r.stages.emplace_back("placement", secondsSince(t));
+  return r;
+}
+
+PipelineResult runPipeline(const Scan& scan, const BodyModel& model, const PipelineOptions& options,
+                           Progress& progress) {
+  PipelineResult out;
+  auto t = Clock::now();
+  out.fit = fitScan(scan.mesh, model, options.fit, &progress);
+  out.stages.emplace_back("fit", secondsSince(t));
+  t = Clock::now();
+  out.body = fittedFeatures(model, out.fit);
+  out.segmentation = segmentScan(scan.mesh, scan.colour, out.body.body, out.body.features,
+                                 options.segment, &progress);
+  out.stages.emplace_back("segment", secondsSince(t));
+  try {
+    out.pattern = runPattern(panelsInput(out.segmentation, out.body), out.body, scan.mesh,
+                             options.pattern, progress);
+    for (const auto& s : out.pattern.stages) out.stages.push_back(s);
+  } catch (const Error& e) {
+    progress.end();
+    out.patternError = std::current_exception();
+    out.patternErrorMessage = e.what();
+  }
+  return out;
+}
+
+}  // namespace s2p

@@ -1,0 +1,128 @@
+// `scan2pattern demo` ends with a pattern: every Patterns III file is written, GarmentCode's own
+// loader (../shared/validators/gc_check.py) reads pattern.json with no error, every stitch's
+// two sides are within 2 mm, stitches.json indexes panels.obj, and no placed panel comes within
+// the clearance of the rest body. An unwritable output folder fails before any work.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_support.h"
+#include "test_support.h"
+
+namespace s2p {
+namespace {
+
+namespace fs = std::filesystem;
+using test::CliRun;
+using test::q;
+
+nlohmann::json readJson(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+// Vertices of an OBJ ("v " lines).
+int objVertexCount(const fs::path& p) {
+  std::ifstream in(p);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) n += line.rfind("v ", 0) == 0;
+  return n;
+}
+
+class DemoPattern : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir;
+    run_ = new CliRun(test::runCli("-q demo -o " + q(dir_->path() / "demo")));
+  }
+  static void TearDownTestSuite() {
+    delete run_;
+    delete dir_;
+  }
+  static fs::path pattern() { return dir_->path() / "demo" / "pattern"; }
+  static test::TempDir* dir_;
+  static CliRun* run_;
+};
+test::TempDir* DemoPattern::dir_ = nullptr;
+CliRun* DemoPattern::run_ = nullptr;
+
+TEST_F(DemoPattern, WritesEveryPatternFile_Slow) {
+  ASSERT_EQ(run_->code, 0) << run_->out;
+  for (const char* f : {"pattern.json", "pattern.svg", "pattern.pdf", "pattern.dxf", "pattern.png",
+                        "panels.obj", "stitches.json", "body_rest.obj", "panels_flat.obj",
+                        "flat.json", "panels.json"})
+    EXPECT_TRUE(fs::exists(pattern() / f) && fs::file_size(pattern() / f) > 0) << f;
+  EXPECT_NE(run_->out.find("pattern.png"), std::string::npos) << "the demo names its picture";
+  // No temporary file is left behind.
+  for (const auto& e : fs::directory_iterator(pattern()))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+TEST_F(DemoPattern, StitchesPairPanelsObjVerticesAndTheirSidesAgree_Slow) {
+  ASSERT_EQ(run_->code, 0) << run_->out;
+  const nlohmann::json st = readJson(pattern() / "stitches.json");
+  const int nV = objVertexCount(pattern() / "panels.obj");
+  ASSERT_EQ(nV, objVertexCount(pattern() / "panels_flat.obj"));
+  ASSERT_GT(st["stitches"].size(), 0u);
+  for (const auto& s : st["stitches"]) {
+    EXPECT_LT(s["mismatch_mm"].get<double>(), 2.0) << s["name"];
+    for (const auto& pair : s["vertex_pairs"])
+      for (int k = 0; k < 2; ++k) {
+        EXPECT_GE(pair[k].get<int>(), 0);
+        EXPECT_LT(pair[k].get<int>(), nV);
+      }
+  }
+  const nlohmann::json report = readJson(dir_->path() / "demo" / "report.json");
+  for (const auto& p : report["placement"]["panels"])
+    EXPECT_GE(p["clearance_m"].get<double>(), 0.0199) << p["panel"] << " intersects the rest body";
+}
+
+TEST_F(DemoPattern, GarmentCodesOwnLoaderReadsThePattern_Slow) {
+  ASSERT_EQ(run_->code, 0) << run_->out;
+  const fs::path checker = test::sharedDir() / "validators" / "gc_check.py";
+  if (test::sharedDir().empty() || !fs::exists(checker))
+    GTEST_SKIP() << "../shared/validators/gc_check.py not found: GarmentCode's loader not run";
+  if (!fs::exists("/usr/bin/python3"))
+    GTEST_SKIP() << "/usr/bin/python3 not found: GarmentCode's loader not run";
+  const fs::path report = dir_->path() / "gc.json";
+  const std::string cmd = "/usr/bin/python3 " + q(checker) + " " + q(pattern() / "pattern.json") +
+                          " " + q(dir_->path() / "gc") + " --no-images --strict --tol-cm 0.2" +
+                          " --json " + q(report) + " 2>&1";
+  std::string out;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  char buf[4096];
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  const int status = pclose(pipe);
+  ASSERT_EQ(WEXITSTATUS(status), 0) << out;
+  const nlohmann::json r = readJson(report);
+  EXPECT_TRUE(r["errors"].empty()) << r["errors"].dump();
+  EXPECT_GT(r["n_stitches"].get<int>(), 0);
+  EXPECT_LT(r["max_stitch_mismatch_cm"].get<double>(), 0.2);
+  for (const auto& s : r["stitches"]) EXPECT_FALSE(s["probably_twisted"].get<bool>()) << s.dump();
+}
+
+TEST(PatternCli, AnUnwritableOutputFolderFailsBeforeAnyWork) {
+  test::TempDir dir;
+  {
+    std::ofstream f(dir.path() / "file");
+    f << "not a folder";
+  }
+  const fs::path scan = dir.path() / "scan.ply";
+  ASSERT_EQ(test::runCli("-q synth --preset tshirt_trousers --vertices 3000 -o " + q(dir.path() / "s")).code, 0);
+  const CliRun r = test::runCli("-q run " + q(dir.path() / "s" / "scan.ply") + " -o " +
+                                q(dir.path() / "file" / "out"));
+  EXPECT_EQ(r.code, 3) << r.out;  // ExitCode::Io
+  EXPECT_NE(r.out.find("output folder"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("fit"), std::string::npos) << "no stage ran: " << r.out;
+}
+
+}  // namespace
+}  // namespace s2p
