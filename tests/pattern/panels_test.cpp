@@ -386,9 +386,6 @@ TEST(Panels, AGarmentThatMakesNoPatternLeavesTheOthersTheirs) {
   EXPECT_THROW(runPanels(in), TopologyError);
 }
 
-}  // namespace
-}  // namespace s2p
-
 // === The tube's pattern: two rectangles, flattened, stitched, written for GarmentCode
 
 struct TubePattern {
@@ -452,8 +449,9 @@ TEST(GarmentCode, ATubePatternRoundTripsThroughTheSpecification) {
   placement.panels.resize(2);
   for (int p = 0; p < 2; ++p) {
     placement.panels[p].placed = true;
-    placement.panels[p].t = Eigen::Vector3d(0, 1.2, p == 0 ? 0.2 : -0.2);
-    if (t.panels.panels[p].name == "back")
+    const bool back = t.panels.panels[p].name == "back";
+    placement.panels[p].t = Eigen::Vector3d(0, 1.2, back ? -0.2 : 0.2);
+    if (back)
       placement.panels[p].R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
   }
   const nlohmann::json spec = garmentCodeSpecification(t.panels, t.flat, placement, stitches);
@@ -467,7 +465,7 @@ TEST(GarmentCode, ATubePatternRoundTripsThroughTheSpecification) {
   auto edgeCurve = [&](const std::string& panel, int edge) {
     const nlohmann::json& p = panels.at(panel);
     const nlohmann::json& e = p["edges"][edge];
-    const auto vtx = [&](int i) {
+    const auto vtx = [&](int i) -> Eigen::Vector2d {
       return Eigen::Vector2d(p["vertices"][i][0].get<double>(), p["vertices"][i][1].get<double>()) / 100;
     };
     const Eigen::Vector2d a = vtx(e["endpoints"][0]), b = vtx(e["endpoints"][1]);
@@ -537,3 +535,6 @@ TEST(BezierOutline, SplitAtFractionsKeepsTheCurve) {
     EXPECT_LT(distanceToChain(c, p), 1e-9);
   }
 }
+
+}  // namespace
+}  // namespace s2p
