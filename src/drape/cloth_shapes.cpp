@@ -120,7 +120,7 @@ DrapeInput makeTubeGarment(double width, double height, double edge, double dist
 }
 
 DrapeInput makeShirtGarment(double edge) {
-  const double torso = 0.5, sleeve = 0.25, height = 0.7, sleeveHeight = 0.2, neck = 0.18;
+  const double torso = 0.6, sleeve = 0.25, height = 0.7, sleeveHeight = 0.2, neck = 0.2;
   const double width = torso + 2 * sleeve;
   const int nx = static_cast<int>(std::lround(width / edge));
   const int ny = static_cast<int>(std::lround(height / edge));
@@ -130,7 +130,7 @@ DrapeInput makeShirtGarment(double edge) {
   const int in1 = nx - in0;
   auto keep = [&](int i, int j) { return j >= ia || (i >= is && i < nx - is); };
   const double bodyTop = 0.75, distance = 0.19;
-  const double y0 = bodyTop + 0.01 - height;
+  const double y0 = bodyTop + 0.04 - height;  // shoulders above the top: they meet over it
   const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY();
   GridPanel front = makeGridPanel("front", nx, ny, width, height,
                                   Eigen::Vector3d(-width / 2, y0, distance), ex, ey, false, keep);

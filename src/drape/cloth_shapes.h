@@ -33,7 +33,7 @@ TriMesh makeClosedCylinder(double radius, double y0, double y1, int rings, int s
 DrapeInput makeTubeGarment(double width, double height, double edge, double distance,
                            double bodyRadius);
 
-// A shirt-like garment of two T-shaped panels (torso 0.5 × 0.7 m, sleeves 0.25 × 0.2 m) around
+// A shirt-like garment of two T-shaped panels (torso 0.6 × 0.7 m, sleeves 0.25 × 0.2 m) around
 // a body-sized closed cylinder (radius 0.15 m, height 0.75 m): side, underarm and shoulder
 // seams, open hem, neck and cuffs. About `edge` spacing.
 DrapeInput makeShirtGarment(double edge);

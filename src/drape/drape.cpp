@@ -125,7 +125,8 @@ class ClothSim {
   // Per-step state of the schedule.
   Vector3d gravity_ = Vector3d::Zero();
   double damping_ = 0;
-  double maxClose_ = std::numeric_limits<double>::infinity();  // per substep, stitches
+  std::vector<double> stitchStart_;      // metres: each stitch's gap at the start
+  double sewTime_ = 0;                    // seconds of sewing so far (both phases)
   double dts_ = 0;
   long long solves_ = 0;
   double lastStepSpeed_ = 0;  // m/s, fastest vertex over the last step
@@ -312,6 +313,7 @@ void ClothSim::build(const DrapeInput& input) {
   }
   xprev_ = x_;
   xstep_ = x_;
+  for (const auto& [a, b] : stitches_) stitchStart_.push_back((x_[a] - x_[b]).norm());
 }
 
 template <class Solve>
@@ -385,14 +387,18 @@ void ClothSim::solveBend(const BendConstraint& c, Vector3d& lambda) {
   for (int i = 0; i < 4; ++i) x_[c.v[i]] += w_[c.v[i]] * c.k[i] * dl;
 }
 
-// Stitches: distance → 0, each correction at most maxClose_ (the sewing speed).
+// Stitches: the distance of each pair is held at most max(0, L0 − sewSpeed·t), L0 its
+// distance at the start: seams close at sewSpeed, and are hard zero-length constraints after.
 void ClothSim::solveStitches() {
-  for (const auto& [a, b] : stitches_) {
+  for (size_t i = 0; i < stitches_.size(); ++i) {
+    const auto [a, b] = stitches_[i];
     const double wsum = w_[a] + w_[b];
     if (wsum <= 0) continue;
     const Vector3d d = x_[b] - x_[a];
     const double len = d.norm();
-    const double s = len > maxClose_ ? maxClose_ / len : 1.0;
+    const double target = std::max(0.0, stitchStart_[i] - o_.sewSpeed * sewTime_);
+    if (len <= target) continue;
+    const double s = (len - target) / len;
     x_[a] += (w_[a] / wsum * s) * d;
     x_[b] -= (w_[b] / wsum * s) * d;
   }
@@ -551,6 +557,7 @@ void ClothSim::substep() {
   });
   std::fill(triLambda_.begin(), triLambda_.end(), 0.0);
   std::fill(bendLambda_.begin(), bendLambda_.end(), Vector3d::Zero());
+  sewTime_ += dts_;
   for (int it = 0; it < o_.iterations; ++it) {
     forColours(triColours_, triSerialLast_, [&](int c) { solveTriangle(tris_[c], &triLambda_[3 * c]); });
     forColours(bendColours_, bendSerialLast_, [&](int c) { solveBend(bends_[c], bendLambda_[c]); });
@@ -589,13 +596,13 @@ bool ClothSim::step(std::string& why) {
     why = "a vertex position became NaN or infinite";
     return false;
   }
-  if (!inScene) {
-    why = "the cloth left the scene (fell through the body or was flung away)";
-    return false;
-  }
   if (maxSpeed > o_.explodeSpeed) {
     why = fmt::format("a vertex moved at {:.1f} m/s (explosion threshold {:.1f} m/s)", maxSpeed,
                       o_.explodeSpeed);
+    return false;
+  }
+  if (!inScene) {
+    why = "the cloth left the scene (fell through the body or was flung away)";
     return false;
   }
   double maxStrain = 0;
@@ -638,7 +645,6 @@ void ClothSim::run() {
   // Phase 1: sew, gravity off, seams closing at most sewSpeed.
   gravity_.setZero();
   damping_ = o_.sewDamping;
-  maxClose_ = o_.sewSpeed * o_.timeStep / o_.substeps;
   if (stitches_.empty()) {
     r.warnings.push_back("drape: the pattern has no stitches; the panels are draped unsewn");
     r.seamsClosed = true;
@@ -665,7 +671,7 @@ void ClothSim::run() {
   if (ok) {
     gravity_ = o_.gravity;
     damping_ = o_.damping;
-    maxClose_ = std::numeric_limits<double>::infinity();
+    // Stitches keep closing at sewSpeed: a seam still open after the sewing budget does not snap.
     for (Vector3d& v : vel_) v.setZero();
     int calm = 0;
     while (r.drapeSteps < o_.drapeMaxSteps) {

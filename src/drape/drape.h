@@ -9,8 +9,8 @@
 //   along the pattern's x (weft) and y (warp) directions and F·u·F·v for shear;
 // - bending: the isometric bending model (Bergou et al. 2006) around the flat rest state, a
 //   linear vector constraint per interior edge;
-// - sewing: partner vertices pulled together (distance → 0), each correction limited to
-//   sewSpeed·dt so seams close gradually instead of snapping;
+// - sewing: partner vertices pulled together, a hard constraint on their distance whose limit
+//   shrinks from the start gap to 0 at sewSpeed, so seams close gradually instead of snapping;
 // - body: signed distance ≥ thickness (BodySdf), Coulomb friction on the tangential motion;
 // - self-collision: vertex–triangle proximity (spatial hash, found anew
 //   every few substeps, side kept from the search), thickness selfThickness.
