@@ -48,7 +48,13 @@ void BM_Shirt(benchmark::State& state) {
   for (auto _ : state) r = runDrape(in, {});
   report(state, in, r);
 }
-BENCHMARK(BM_Shirt)->Arg(20)->Arg(10)->Arg(5)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_Shirt)
+    ->Arg(20)
+    ->Arg(10)
+    ->Arg(5)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace s2p

@@ -13,8 +13,10 @@
 namespace s2p {
 
 BodySdf::BodySdf(const TriMesh& body, const BodySdfOptions& options)
-    : voxel_(options.voxel), exteriorBand_(options.exteriorBand),
-      interiorBand_(options.interiorBand), query_((validateMesh(body, "drape body"), body)) {
+    : voxel_(options.voxel),
+      exteriorBand_(options.exteriorBand),
+      interiorBand_(options.interiorBand),
+      query_((validateMesh(body, "drape body"), body)) {
   if (!(voxel_ >= 5e-4 && voxel_ <= 0.05))
     throw InputError("drape: body SDF voxel " + std::to_string(voxel_) +
                      " m is outside 0.5–50 mm; pick e.g. 0.004");
@@ -28,8 +30,7 @@ BodySdf::BodySdf(const TriMesh& body, const BodySdfOptions& options)
   std::vector<openvdb::Vec3I> tris(body.numFaces());
   for (int f = 0; f < body.numFaces(); ++f)
     tris[f] = openvdb::Vec3I(body.F(f, 0), body.F(f, 1), body.F(f, 2));
-  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points,
-                                                                                     tris);
+  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, tris);
   openvdb::util::NullInterrupter interrupter;
   const auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
       interrupter, adapter, *xform, static_cast<float>(exteriorBand_ / voxel_ + 1),

@@ -13,17 +13,17 @@
 namespace s2p {
 
 struct BodySdfOptions {
-  double voxel = 0.004;          // metres: grid spacing (the trilinear error is ≪ voxel near a smooth body)
-  double exteriorBand = 0.03;    // metres of exact distance outside the surface
-  double interiorBand = 0.03;    // metres inside; deeper points fall back to the exact query
+  double voxel = 0.004;  // metres: grid spacing (the trilinear error is ≪ voxel near a smooth body)
+  double exteriorBand = 0.03;  // metres of exact distance outside the surface
+  double interiorBand = 0.03;  // metres inside; deeper points fall back to the exact query
   // When set, the grid covers only this box (grown by the bands) intersected with the body's:
   // the garment's reach. Empty (min > max): the whole body.
   BoundingBox region{Eigen::Vector3d::Constant(1.0), Eigen::Vector3d::Constant(-1.0)};
 };
 
 struct SdfSample {
-  double distance = 0;                                  // metres, negative inside the body
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitY();    // unit, pointing out of the body
+  double distance = 0;                                // metres, negative inside the body
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitY();  // unit, pointing out of the body
 };
 
 class BodySdf {
@@ -49,9 +49,9 @@ class BodySdf {
 
  private:
   double voxel_, exteriorBand_, interiorBand_;
-  Eigen::Vector3i dims_;          // grid samples per axis
-  Eigen::Vector3d origin_;        // world position of sample (0,0,0)
-  std::vector<float> values_;     // dims x·y·z, x slowest, z fastest
+  Eigen::Vector3i dims_;       // grid samples per axis
+  Eigen::Vector3d origin_;     // world position of sample (0,0,0)
+  std::vector<float> values_;  // dims x·y·z, x slowest, z fastest
   MeshQuery query_;
 };
 

@@ -1,7 +1,6 @@
 #include "drape/cloth_shapes.h"
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -91,8 +90,9 @@ TriMesh makeClosedCylinder(double radius, double y0, double y1, int rings, int s
   // Orientation: flip everything if the signed volume came out negative.
   double volume = 0;
   for (int i = 0; i < m.numFaces(); ++i)
-    volume += Eigen::Vector3d(m.V.row(m.F(i, 0)))
-                  .dot(Eigen::Vector3d(m.V.row(m.F(i, 1))).cross(Eigen::Vector3d(m.V.row(m.F(i, 2)))));
+    volume +=
+        Eigen::Vector3d(m.V.row(m.F(i, 0)))
+            .dot(Eigen::Vector3d(m.V.row(m.F(i, 1))).cross(Eigen::Vector3d(m.V.row(m.F(i, 2)))));
   if (volume < 0) m.F.col(1).swap(m.F.col(2));
   return m;
 }
@@ -124,7 +124,7 @@ DrapeInput makeShirtGarment(double edge) {
   const double width = torso + 2 * sleeve;
   const int nx = static_cast<int>(std::lround(width / edge));
   const int ny = static_cast<int>(std::lround(height / edge));
-  const int is = static_cast<int>(std::lround(sleeve / edge));        // torso's first column
+  const int is = static_cast<int>(std::lround(sleeve / edge));             // torso's first column
   const int ia = ny - static_cast<int>(std::lround(sleeveHeight / edge));  // armpit row
   const int in0 = static_cast<int>(std::lround((width - neck) / 2 / edge));
   const int in1 = nx - in0;

@@ -8,9 +8,15 @@
 
 namespace s2p {
 
-double MeshComparison::meanMm() const { return std::max(aToB.meanMm, bToA.meanMm); }
-double MeshComparison::p95Mm() const { return std::max(aToB.p95Mm, bToA.p95Mm); }
-double MeshComparison::maxMm() const { return std::max(aToB.maxMm, bToA.maxMm); }
+double MeshComparison::meanMm() const {
+  return std::max(aToB.meanMm, bToA.meanMm);
+}
+double MeshComparison::p95Mm() const {
+  return std::max(aToB.p95Mm, bToA.p95Mm);
+}
+double MeshComparison::maxMm() const {
+  return std::max(aToB.maxMm, bToA.maxMm);
+}
 
 DistanceStats distanceStats(const TriMesh& mesh, const Eigen::VectorXd& distance) {
   DistanceStats s;

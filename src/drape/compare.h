@@ -12,17 +12,17 @@ namespace s2p {
 // vertex carries a third of its faces' area, so the figures do not depend on the meshing).
 struct DistanceStats {
   double meanMm = 0;
-  double p95Mm = 0;   // area-weighted 95th percentile
+  double p95Mm = 0;  // area-weighted 95th percentile
   double maxMm = 0;
-  int argmax = -1;    // vertex where the distance is largest
+  int argmax = -1;                                  // vertex where the distance is largest
   Eigen::Vector3d worst = Eigen::Vector3d::Zero();  // its position, metres
 };
 
 struct MeshComparison {
-  DistanceStats aToB;          // vertices of A to the surface of B
-  DistanceStats bToA;          // vertices of B to the surface of A
-  Eigen::VectorXd distanceA;   // #V_A, metres: each vertex of A to B (for colouring A)
-  Eigen::VectorXd distanceB;   // #V_B, metres
+  DistanceStats aToB;         // vertices of A to the surface of B
+  DistanceStats bToA;         // vertices of B to the surface of A
+  Eigen::VectorXd distanceA;  // #V_A, metres: each vertex of A to B (for colouring A)
+  Eigen::VectorXd distanceB;  // #V_B, metres
   // max(aToB.meanMm, bToA.meanMm) etc.: the symmetric (Hausdorff-like) figures.
   double meanMm() const;
   double p95Mm() const;

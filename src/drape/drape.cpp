@@ -1,5 +1,6 @@
 #include "drape/drape.h"
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -11,7 +12,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <fmt/format.h>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -25,9 +25,12 @@ namespace s2p {
 
 const char* toString(DrapeStatus status) {
   switch (status) {
-    case DrapeStatus::Settled: return "settled";
-    case DrapeStatus::NotSettled: return "not settled";
-    case DrapeStatus::Failed: return "failed";
+    case DrapeStatus::Settled:
+      return "settled";
+    case DrapeStatus::NotSettled:
+      return "not settled";
+    case DrapeStatus::Failed:
+      return "failed";
   }
   return "?";
 }
@@ -45,9 +48,9 @@ struct TriangleConstraint {
 };
 
 struct BendConstraint {
-  int v[4];     // edge (v0, v1), opposite vertices v2, v3
-  double k[4];  // Bergou et al. 2006 cotangent weights: C = Σ k_i x_i = 0 when flat
-  double alpha; // compliance scale (A0 + A1)/3
+  int v[4];      // edge (v0, v1), opposite vertices v2, v3
+  double k[4];   // Bergou et al. 2006 cotangent weights: C = Σ k_i x_i = 0 when flat
+  double alpha;  // compliance scale (A0 + A1)/3
 };
 
 struct Contact {
@@ -106,27 +109,27 @@ class ClothSim {
 
   int nv_ = 0;
   std::vector<Vector3d> x_, xprev_, vel_, xstep_;
-  std::vector<double> w_;                // inverse masses (0: unreferenced vertex, fixed)
-  Eigen::MatrixX3i F_;                    // all panels' faces, garment vertex indices
+  std::vector<double> w_;  // inverse masses (0: unreferenced vertex, fixed)
+  Eigen::MatrixX3i F_;     // all panels' faces, garment vertex indices
   std::vector<TriangleConstraint> tris_;
   std::vector<BendConstraint> bends_;
   std::vector<std::pair<int, int>> stitches_;
   std::vector<std::vector<int>> triColours_, bendColours_;
   bool triSerialLast_ = false, bendSerialLast_ = false;
-  std::vector<double> triLambda_;         // 3 per triangle
+  std::vector<double> triLambda_;  // 3 per triangle
   std::vector<Vector3d> bendLambda_;
-  std::vector<int> weld_;                 // representative of each vertex under the stitches
-  std::vector<int> adjStart_, adj_;       // welded vertex adjacency (CSR over representatives)
+  std::vector<int> weld_;            // representative of each vertex under the stitches
+  std::vector<int> adjStart_, adj_;  // welded vertex adjacency (CSR over representatives)
   std::vector<Contact> contacts_;
-  double contactRadius_ = 0;             // metres, of the last search
+  double contactRadius_ = 0;  // metres, of the last search
   double meanEdge_ = 0.01;
-  Eigen::AlignedBox3d scene_;             // leaving it is a failure
+  Eigen::AlignedBox3d scene_;  // leaving it is a failure
 
   // Per-step state of the schedule.
   Vector3d gravity_ = Vector3d::Zero();
   double damping_ = 0;
-  std::vector<double> stitchStart_;      // metres: each stitch's gap at the start
-  double sewTime_ = 0;                    // seconds of sewing so far (both phases)
+  std::vector<double> stitchStart_;  // metres: each stitch's gap at the start
+  double sewTime_ = 0;               // seconds of sewing so far (both phases)
   double dts_ = 0;
   long long solves_ = 0;
   double lastStepSpeed_ = 0;  // m/s, fastest vertex over the last step
@@ -263,7 +266,9 @@ void ClothSim::build(const DrapeInput& input) {
   // Colours for the parallel Gauss–Seidel sweeps.
   triColours_ = colourConstraints(
       static_cast<int>(tris_.size()), nv_,
-      [&](int c) { return std::array<int, 3>{tris_[c].v[0], tris_[c].v[1], tris_[c].v[2]}; },
+      [&](int c) {
+        return std::array<int, 3>{tris_[c].v[0], tris_[c].v[1], tris_[c].v[2]};
+      },
       triSerialLast_);
   bendColours_ = colourConstraints(
       static_cast<int>(bends_.size()), nv_,
@@ -360,7 +365,8 @@ void ClothSim::solveTriangle(const TriangleConstraint& c, double* lambda) {
       alpha = o_.shearCompliance * inv;
     }
     const Vector3d g0 = -(g1 + g2);
-    const double denom = w0 * g0.squaredNorm() + w1 * g1.squaredNorm() + w2 * g2.squaredNorm() + alpha;
+    const double denom =
+        w0 * g0.squaredNorm() + w1 * g1.squaredNorm() + w2 * g2.squaredNorm() + alpha;
     if (denom < 1e-20) continue;
     const double dl = (-C - alpha * lambda[k]) / denom;
     lambda[k] += dl;
@@ -469,7 +475,8 @@ void ClothSim::findContacts() {
   const size_t tableSize = std::bit_ceil(static_cast<size_t>(4 * nv_));
   auto hash = [&](int x, int y, int z) {
     return (static_cast<size_t>(x) * 73856093u ^ static_cast<size_t>(y) * 19349663u ^
-            static_cast<size_t>(z) * 83492791u) & (tableSize - 1);
+            static_cast<size_t>(z) * 83492791u) &
+           (tableSize - 1);
   };
   struct Entry {
     int cx, cy, cz, v;
@@ -540,7 +547,6 @@ void ClothSim::findContacts() {
     }
   });
   for (const auto& chunk : found) contacts_.insert(contacts_.end(), chunk.begin(), chunk.end());
-
 }
 
 void ClothSim::substep() {
@@ -559,7 +565,8 @@ void ClothSim::substep() {
   std::fill(bendLambda_.begin(), bendLambda_.end(), Vector3d::Zero());
   sewTime_ += dts_;
   for (int it = 0; it < o_.iterations; ++it) {
-    forColours(triColours_, triSerialLast_, [&](int c) { solveTriangle(tris_[c], &triLambda_[3 * c]); });
+    forColours(triColours_, triSerialLast_,
+               [&](int c) { solveTriangle(tris_[c], &triLambda_[3 * c]); });
     forColours(bendColours_, bendSerialLast_, [&](int c) { solveBend(bends_[c], bendLambda_[c]); });
     solveStitches();
     solveContacts();
@@ -608,8 +615,8 @@ bool ClothSim::step(std::string& why) {
   double maxStrain = 0;
   for (const TriangleConstraint& c : tris_) {
     const Vector3d e1 = x_[c.v[1]] - x_[c.v[0]], e2 = x_[c.v[2]] - x_[c.v[0]];
-    maxStrain = std::max({maxStrain, (e1 * c.d00 + e2 * c.d10).norm(),
-                          (e1 * c.d01 + e2 * c.d11).norm()});
+    maxStrain =
+        std::max({maxStrain, (e1 * c.d00 + e2 * c.d10).norm(), (e1 * c.d01 + e2 * c.d11).norm()});
   }
   if (maxStrain > o_.explodeStrain) {
     why = fmt::format("a triangle is stretched {:.1f}× its pattern size (threshold {:.1f}×)",
@@ -646,7 +653,7 @@ void ClothSim::run() {
   gravity_.setZero();
   damping_ = o_.sewDamping;
   if (stitches_.empty()) {
-    r.warnings.push_back("drape: the pattern has no stitches; the panels are draped unsewn");
+    r.warnings.push_back(fmt::format("drape: the pattern has no stitches; the panels are draped unsewn"));
     r.seamsClosed = true;
   } else {
     int closedFor = -1;
@@ -697,7 +704,8 @@ void ClothSim::run() {
   r.garment.F = F_;
   r.panels.clear();
   for (size_t p = 0; p + 1 < r.panelOffset.size(); ++p)
-    r.panels.push_back(r.garment.V.middleRows(r.panelOffset[p], r.panelOffset[p + 1] - r.panelOffset[p]));
+    r.panels.push_back(
+        r.garment.V.middleRows(r.panelOffset[p], r.panelOffset[p + 1] - r.panelOffset[p]));
   r.maxStitchGap = stitchGap(&r.meanStitchGap);
   // Penetrations with the exact distance where the grid says the vertex is near or inside.
   std::vector<double> depth(nv_, 0.0);
@@ -726,9 +734,9 @@ void ClothSim::run() {
     r.warnings.push_back(fmt::format(
         "drape: {} vertices inside the body (GarmentCode's gate: at most 35)", r.bodyPenetrations));
   if (ok && r.selfIntersections > 300)
-    r.warnings.push_back(fmt::format(
-        "drape: {} self-intersecting triangle pairs (GarmentCode's gate: at most 300)",
-        r.selfIntersections));
+    r.warnings.push_back(
+        fmt::format("drape: {} self-intersecting triangle pairs (GarmentCode's gate: at most 300)",
+                    r.selfIntersections));
 }
 
 void validate(const DrapeInput& in, const DrapeOptions& o) {
@@ -739,9 +747,10 @@ void validate(const DrapeInput& in, const DrapeOptions& o) {
     if (panel.numFaces() == 0 || panel.numVertices() < 3)
       throw InputError(name + " has no triangles");
     if (panel.start.rows() != panel.rest2d.rows())
-      throw InputError(fmt::format("{}: {} flat vertices but {} placed ones; both must list the "
-                                   "same vertices in the same order",
-                                   name, panel.rest2d.rows(), panel.start.rows()));
+      throw InputError(
+          fmt::format("{}: {} flat vertices but {} placed ones; both must list the "
+                      "same vertices in the same order",
+                      name, panel.rest2d.rows(), panel.start.rows()));
     if (!panel.rest2d.allFinite() || !panel.start.allFinite())
       throw InputError(name + " has a non-finite (NaN or infinite) vertex coordinate");
     if (panel.F.minCoeff() < 0 || panel.F.maxCoeff() >= panel.numVertices())
@@ -755,17 +764,17 @@ void validate(const DrapeInput& in, const DrapeOptions& o) {
       return panel < 0 || panel >= np || vertex < 0 || vertex >= in.panels[panel].numVertices();
     };
     if (bad(s.panelA, s.vertexA) || bad(s.panelB, s.vertexB))
-      throw InputError(fmt::format("drape: stitch {} ({}:{} – {}:{}) refers to a panel or vertex "
-                                   "that does not exist",
-                                   i, s.panelA, s.vertexA, s.panelB, s.vertexB));
+      throw InputError(
+          fmt::format("drape: stitch {} ({}:{} – {}:{}) refers to a panel or vertex "
+                      "that does not exist",
+                      i, s.panelA, s.vertexA, s.panelB, s.vertexB));
     if (s.panelA == s.panelB && s.vertexA == s.vertexB)
       throw InputError(fmt::format("drape: stitch {} sews vertex {} of panel {} to itself", i,
                                    s.vertexA, s.panelA));
   }
   auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   auto nonNegative = [](double v) { return std::isfinite(v) && v >= 0; };
-  if (!positive(o.timeStep) || o.substeps < 1 || o.iterations < 1 ||
-      o.selfCollisionPeriod < 1)
+  if (!positive(o.timeStep) || o.substeps < 1 || o.iterations < 1 || o.selfCollisionPeriod < 1)
     throw InputError("drape: the time step must be positive, substeps and iterations at least 1");
   if (!nonNegative(o.stretchCompliance) || !nonNegative(o.shearCompliance) ||
       !nonNegative(o.bendingCompliance) || !positive(o.density))
@@ -773,10 +782,10 @@ void validate(const DrapeInput& in, const DrapeOptions& o) {
   if (!nonNegative(o.bodyThickness) || !nonNegative(o.selfThickness) || !nonNegative(o.friction) ||
       !nonNegative(o.damping) || !nonNegative(o.sewDamping) || !positive(o.maxSpeed) ||
       !positive(o.sewSpeed) || !positive(o.sewTolerance) || !o.gravity.allFinite())
-    throw InputError("drape: thicknesses, friction, damping must be ≥ 0; speeds and the sewing "
-                     "tolerance > 0; gravity finite");
-  if (o.sewMaxSteps < 0 || o.drapeMaxSteps < 0)
-    throw InputError("drape: step budgets must be ≥ 0");
+    throw InputError(
+        "drape: thicknesses, friction, damping must be ≥ 0; speeds and the sewing "
+        "tolerance > 0; gravity finite");
+  if (o.sewMaxSteps < 0 || o.drapeMaxSteps < 0) throw InputError("drape: step budgets must be ≥ 0");
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -18,8 +17,8 @@ namespace {
 using Eigen::Vector3d;
 
 // Whether segment pq crosses triangle abc (Möller–Trumbore; touching within 1e-12 counts).
-bool segmentHitsTriangle(const Vector3d& p, const Vector3d& q, const Vector3d& a,
-                         const Vector3d& b, const Vector3d& c) {
+bool segmentHitsTriangle(const Vector3d& p, const Vector3d& q, const Vector3d& a, const Vector3d& b,
+                         const Vector3d& c) {
   const Vector3d d = q - p, e1 = b - a, e2 = c - a;
   const Vector3d h = d.cross(e2);
   const double det = e1.dot(h);

@@ -27,8 +27,8 @@ bool contains(const std::vector<std::string>& warnings, const std::string& what)
 // A square sheet, side × side at `edge` spacing, facing +Y at height y, centred on the y axis.
 ClothPanel sheet(double side, double edge, double y, const std::string& name = "sheet") {
   const int n = static_cast<int>(std::lround(side / edge));
-  return makeGridPanel(name, n, n, side, side, Vector3d(-side / 2, y, side / 2),
-                       Vector3d::UnitX(), -Vector3d::UnitZ(), false)
+  return makeGridPanel(name, n, n, side, side, Vector3d(-side / 2, y, side / 2), Vector3d::UnitX(),
+                       -Vector3d::UnitZ(), false)
       .panel;
 }
 
@@ -61,7 +61,7 @@ TEST(BodySdf, MatchesTheSphereDistanceAndNormal) {
   const BodySdf sdf(makeIcosphere(5, 0.2), {.voxel = 0.004});
   for (double d : {-0.015, -0.004, 0.0, 0.003, 0.012}) {
     for (const Vector3d& dir : {Vector3d(1, 0, 0), Vector3d(0.3, 0.8, -0.5).normalized(),
-                               Vector3d(-0.6, -0.2, 0.77).normalized()}) {
+                                Vector3d(-0.6, -0.2, 0.77).normalized()}) {
       const SdfSample s = sdf.sample((0.2 + d) * dir);
       EXPECT_NEAR(s.distance, d, 5e-4) << "at depth " << d;
       EXPECT_GT(s.normal.dot(dir), 0.98);
@@ -248,7 +248,7 @@ TEST(Drape, MalformedInputIsAnInputError) {
 TEST(SelfIntersections, CrossingTrianglesCountOnceTouchingNeighboursNot) {
   TriMesh m;
   m.V.resize(6, 3);
-  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0,   // in z = 0
+  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0,            // in z = 0
       0.2, 0.2, -0.5, 0.2, 0.2, 0.5, 1, 1, 0;  // pierces it
   m.F.resize(2, 3);
   m.F << 0, 1, 2, 3, 4, 5;
