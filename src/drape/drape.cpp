@@ -613,14 +613,20 @@ bool ClothSim::step(std::string& why) {
     return false;
   }
   double maxStrain = 0;
-  for (const TriangleConstraint& c : tris_) {
+  int worst = -1;
+  for (size_t t = 0; t < tris_.size(); ++t) {
+    const TriangleConstraint& c = tris_[t];
     const Vector3d e1 = x_[c.v[1]] - x_[c.v[0]], e2 = x_[c.v[2]] - x_[c.v[0]];
-    maxStrain =
-        std::max({maxStrain, (e1 * c.d00 + e2 * c.d10).norm(), (e1 * c.d01 + e2 * c.d11).norm()});
+    const double strain =
+        std::max((e1 * c.d00 + e2 * c.d10).norm(), (e1 * c.d01 + e2 * c.d11).norm());
+    if (strain > maxStrain) maxStrain = strain, worst = static_cast<int>(t);
   }
   if (maxStrain > o_.explodeStrain) {
-    why = fmt::format("a triangle is stretched {:.1f}× its pattern size (threshold {:.1f}×)",
-                      maxStrain, o_.explodeStrain);
+    const Vector3d& p = x_[tris_[worst].v[0]];
+    why = fmt::format(
+        "a triangle is stretched {:.1f}× its pattern size (threshold {:.1f}×), garment vertex {} "
+        "at ({:.3f}, {:.3f}, {:.3f})",
+        maxStrain, o_.explodeStrain, tris_[worst].v[0], p.x(), p.y(), p.z());
     return false;
   }
   lastStepSpeed_ = maxSpeed;
@@ -653,7 +659,8 @@ void ClothSim::run() {
   gravity_.setZero();
   damping_ = o_.sewDamping;
   if (stitches_.empty()) {
-    r.warnings.push_back(fmt::format("drape: the pattern has no stitches; the panels are draped unsewn"));
+    r.warnings.push_back(
+        fmt::format("drape: the pattern has no stitches; the panels are draped unsewn"));
     r.seamsClosed = true;
   } else {
     int closedFor = -1;
