@@ -1,0 +1,71 @@
+#include "drape/compare.h"
+
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include "core/mesh_query.h"
+
+namespace s2p {
+
+double MeshComparison::meanMm() const {
+  return std::max(aToB.meanMm, bToA.meanMm);
+}
+double MeshComparison::p95Mm() const {
+  return std::max(aToB.p95Mm, bToA.p95Mm);
+}
+double MeshComparison::maxMm() const {
+  return std::max(aToB.maxMm, bToA.maxMm);
+}
+
+DistanceStats distanceStats(const TriMesh& mesh, const Eigen::VectorXd& distance) {
+  DistanceStats s;
+  const int nv = mesh.numVertices();
+  if (nv == 0 || distance.size() != nv) return s;
+  // Vertex areas: a third of each incident face (a vertex on no face weighs nothing; if no
+  // face has area, every vertex weighs the same).
+  Eigen::VectorXd weight = Eigen::VectorXd::Zero(nv);
+  const Eigen::VectorXd area = faceAreas(mesh);
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) weight[mesh.F(f, k)] += area[f] / 3;
+  if (!(weight.sum() > 0)) weight.setOnes();
+  s.meanMm = 1e3 * weight.dot(distance) / weight.sum();
+  distance.maxCoeff(&s.argmax);
+  s.maxMm = 1e3 * distance[s.argmax];
+  s.worst = mesh.V.row(s.argmax).transpose();
+  std::vector<int> order(nv);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int l, int r) { return distance[l] < distance[r]; });
+  const double target = 0.95 * weight.sum();
+  double acc = 0;
+  s.p95Mm = s.maxMm;
+  for (int v : order) {
+    acc += weight[v];
+    if (acc >= target) {
+      s.p95Mm = 1e3 * distance[v];
+      break;
+    }
+  }
+  return s;
+}
+
+MeshComparison compareMeshes(const TriMesh& a, const TriMesh& b) {
+  validateMesh(a, "compared mesh A");
+  validateMesh(b, "compared mesh B");
+  const MeshQuery qa(a), qb(b);
+  MeshComparison c;
+  auto distances = [](const MeshQuery& q, const Eigen::MatrixX3d& P) {
+    const std::vector<ClosestHit> hits = q.closestPoints(P);
+    Eigen::VectorXd d(P.rows());
+    for (Eigen::Index i = 0; i < P.rows(); ++i) d[i] = hits[i].distance;
+    return d;
+  };
+  c.distanceA = distances(qb, a.V);
+  c.distanceB = distances(qa, b.V);
+  c.aToB = distanceStats(a, c.distanceA);
+  c.bToA = distanceStats(b, c.distanceB);
+  return c;
+}
+
+}  // namespace s2p

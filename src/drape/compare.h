@@ -1,0 +1,39 @@
+// How far apart two surfaces are: closest-point distances both ways (the draped garment
+// against the scanned one), as figures in millimetres and per vertex for colouring.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "core/tri_mesh.h"
+
+namespace s2p {
+
+// Distances from the vertices of one mesh to the surface of the other, area-weighted (each
+// vertex carries a third of its faces' area, so the figures do not depend on the meshing).
+struct DistanceStats {
+  double meanMm = 0;
+  double p95Mm = 0;  // area-weighted 95th percentile
+  double maxMm = 0;
+  int argmax = -1;                                  // vertex where the distance is largest
+  Eigen::Vector3d worst = Eigen::Vector3d::Zero();  // its position, metres
+};
+
+struct MeshComparison {
+  DistanceStats aToB;         // vertices of A to the surface of B
+  DistanceStats bToA;         // vertices of B to the surface of A
+  Eigen::VectorXd distanceA;  // #V_A, metres: each vertex of A to B (for colouring A)
+  Eigen::VectorXd distanceB;  // #V_B, metres
+  // max(aToB.meanMm, bToA.meanMm) etc.: the symmetric (Hausdorff-like) figures.
+  double meanMm() const;
+  double p95Mm() const;
+  double maxMm() const;
+};
+
+// Closest points by the Embree BVH (core/mesh_query.h). Throws InputError for an empty or
+// invalid mesh.
+MeshComparison compareMeshes(const TriMesh& a, const TriMesh& b);
+
+// Area-weighted statistics of per-vertex distances (metres) on `mesh`; #V distances.
+DistanceStats distanceStats(const TriMesh& mesh, const Eigen::VectorXd& distance);
+
+}  // namespace s2p

@@ -1,0 +1,813 @@
+#include "drape/drape.h"
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <random>
+#include <tuple>
+
+#include "core/error.h"
+#include "drape/body_sdf.h"
+
+namespace s2p {
+
+const char* toString(DrapeStatus status) {
+  switch (status) {
+    case DrapeStatus::Settled:
+      return "settled";
+    case DrapeStatus::NotSettled:
+      return "not settled";
+    case DrapeStatus::Failed:
+      return "failed";
+  }
+  return "?";
+}
+
+namespace {
+
+using Eigen::Vector3d;
+
+// === Constraints
+
+struct TriangleConstraint {
+  int v[3];
+  double d00, d01, d10, d11;  // Dm⁻¹ of the 2D rest triangle (Dm = [r1−r0, r2−r0])
+  double area;                // rest area, m²
+};
+
+struct BendConstraint {
+  int v[4];      // edge (v0, v1), opposite vertices v2, v3
+  double k[4];   // Bergou et al. 2006 cotangent weights: C = Σ k_i x_i = 0 when flat
+  double alpha;  // compliance scale (A0 + A1)/3
+};
+
+struct Contact {
+  int v;        // vertex
+  int t;        // triangle (row of the garment's F)
+  double side;  // ±1: which side of the triangle the vertex was on when found
+};
+
+// Greedy colouring of constraints (each a set of vertices) in their given order, so that no two
+// constraints of one colour share a vertex. Constraints that find none of 64 colours free go
+// into a last group solved serially (flag `serialLast`).
+template <class VerticesOf>
+std::vector<std::vector<int>> colourConstraints(int count, int numVertices, VerticesOf verticesOf,
+                                                bool& serialLast) {
+  std::vector<uint64_t> used(numVertices, 0);
+  std::vector<std::vector<int>> groups;
+  std::vector<int> serial;
+  for (int c = 0; c < count; ++c) {
+    const auto vs = verticesOf(c);
+    uint64_t mask = 0;
+    for (int v : vs) mask |= used[v];
+    if (~mask == 0) {
+      serial.push_back(c);
+      continue;
+    }
+    const int colour = std::countr_one(mask);
+    if (colour >= static_cast<int>(groups.size())) groups.resize(colour + 1);
+    groups[colour].push_back(c);
+    for (int v : vs) used[v] |= uint64_t(1) << colour;
+  }
+  serialLast = !serial.empty();
+  if (serialLast) groups.push_back(std::move(serial));
+  return groups;
+}
+
+int findRoot(std::vector<int>& parent, int v) {
+  while (parent[v] != v) v = parent[v] = parent[parent[v]];
+  return v;
+}
+
+// === The simulator
+
+class ClothSim {
+ public:
+  ClothSim(const DrapeInput& input, const DrapeOptions& o, DrapeResult& result)
+      : o_(o), result_(result) {
+    build(input);
+  }
+
+  void run();
+
+ private:
+  const DrapeOptions& o_;
+  DrapeResult& result_;
+  std::unique_ptr<BodySdf> sdf_;
+
+  int nv_ = 0;
+  std::vector<Vector3d> x_, xprev_, vel_, xstep_;
+  std::vector<double> w_;  // inverse masses (0: unreferenced vertex, fixed)
+  Eigen::MatrixX3i F_;     // all panels' faces, garment vertex indices
+  std::vector<TriangleConstraint> tris_;
+  std::vector<BendConstraint> bends_;
+  std::vector<std::pair<int, int>> stitches_;
+  std::vector<std::vector<int>> triColours_, bendColours_;
+  bool triSerialLast_ = false, bendSerialLast_ = false;
+  std::vector<double> triLambda_;  // 3 per triangle
+  std::vector<Vector3d> bendLambda_;
+  std::vector<int> weld_;            // representative of each vertex under the stitches
+  std::vector<int> adjStart_, adj_;  // welded vertex adjacency (CSR over representatives)
+  std::vector<Contact> contacts_;
+  double contactRadius_ = 0;  // metres, of the last search
+  double meanEdge_ = 0.01;
+  Eigen::AlignedBox3d scene_;  // leaving it is a failure
+
+  // Per-step state of the schedule.
+  Vector3d gravity_ = Vector3d::Zero();
+  double damping_ = 0;
+  std::vector<double> stitchStart_;  // metres: each stitch's gap at the start
+  double sewTime_ = 0;               // seconds of sewing so far (both phases)
+  double dts_ = 0;
+  long long solves_ = 0;
+  double lastStepSpeed_ = 0;  // m/s, fastest vertex over the last step
+
+  void build(const DrapeInput& input);
+  bool step(std::string& why);
+  void substep();
+  void solveTriangle(const TriangleConstraint& c, double* lambda);
+  void solveBend(const BendConstraint& c, Vector3d& lambda);
+  void solveStitches();
+  void solveContacts();
+  void solveBody(int v);
+  void findContacts();
+  double stitchGap(double* mean) const;
+  template <class Solve>
+  void forColours(const std::vector<std::vector<int>>& groups, bool serialLast, Solve solve);
+};
+
+void ClothSim::build(const DrapeInput& input) {
+  // Vertices of all panels, concatenated.
+  result_.panelOffset.assign(1, 0);
+  for (const ClothPanel& p : input.panels)
+    result_.panelOffset.push_back(result_.panelOffset.back() + p.numVertices());
+  nv_ = result_.panelOffset.back();
+  x_.resize(nv_);
+  int nf = 0;
+  for (const ClothPanel& p : input.panels) nf += p.numFaces();
+  F_.resize(nf, 3);
+  std::vector<Eigen::Vector2d> rest(nv_);
+  std::mt19937 rng(o_.seed);
+  auto noise = [&] { return o_.jitter * (2.0 * rng() / double(std::mt19937::max()) - 1.0); };
+  for (size_t p = 0, f0 = 0; p < input.panels.size(); ++p) {
+    const ClothPanel& panel = input.panels[p];
+    const int off = result_.panelOffset[p];
+    for (int v = 0; v < panel.numVertices(); ++v) {
+      x_[off + v] = panel.start.row(v).transpose();
+      for (int a = 0; a < 3; ++a) x_[off + v][a] += noise();
+      rest[off + v] = panel.rest2d.row(v).transpose();
+    }
+    F_.middleRows(f0, panel.numFaces()) = panel.F.array() + off;
+    f0 += panel.numFaces();
+  }
+  xprev_ = x_;
+  xstep_ = x_;
+  vel_.assign(nv_, Vector3d::Zero());
+
+  // Stretch/shear triangles and lumped masses.
+  std::vector<double> mass(nv_, 0.0);
+  double edgeSum = 0;
+  for (int f = 0; f < nf; ++f) {
+    TriangleConstraint c;
+    for (int k = 0; k < 3; ++k) c.v[k] = F_(f, k);
+    Eigen::Matrix2d Dm;
+    Dm.col(0) = rest[c.v[1]] - rest[c.v[0]];
+    Dm.col(1) = rest[c.v[2]] - rest[c.v[0]];
+    const double det = Dm.determinant();
+    edgeSum += Dm.col(0).norm() + Dm.col(1).norm() + (rest[c.v[2]] - rest[c.v[1]]).norm();
+    c.area = 0.5 * std::abs(det);
+    if (!(c.area > 1e-12)) continue;  // degenerate in the pattern: carries no stretch
+    const Eigen::Matrix2d D = Dm.inverse();
+    c.d00 = D(0, 0), c.d01 = D(0, 1), c.d10 = D(1, 0), c.d11 = D(1, 1);
+    tris_.push_back(c);
+    for (int k = 0; k < 3; ++k) mass[c.v[k]] += o_.density * c.area / 3;
+  }
+  meanEdge_ = nf > 0 ? edgeSum / (3.0 * nf) : 0.01;
+  w_.resize(nv_);
+  for (int v = 0; v < nv_; ++v) w_[v] = mass[v] > 0 ? 1.0 / mass[v] : 0.0;
+
+  // Bending: interior edges of each panel (seams are hinges).
+  struct HalfEdge {
+    int a, b, opposite, face;
+  };
+  std::vector<HalfEdge> he;
+  he.reserve(3 * nf);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F_(f, k), b = F_(f, (k + 1) % 3), c = F_(f, (k + 2) % 3);
+      he.push_back({std::min(a, b), std::max(a, b), c, f});
+    }
+  std::sort(he.begin(), he.end(), [](const HalfEdge& l, const HalfEdge& r) {
+    return std::tie(l.a, l.b, l.face) < std::tie(r.a, r.b, r.face);
+  });
+  auto cot = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+    const double cross = std::abs(u.x() * v.y() - u.y() * v.x());
+    return cross > 1e-14 ? u.dot(v) / cross : std::numeric_limits<double>::quiet_NaN();
+  };
+  for (size_t i = 0; i + 1 < he.size(); ++i) {
+    if (he[i].a != he[i + 1].a || he[i].b != he[i + 1].b) continue;
+    if (i + 2 < he.size() && he[i + 2].a == he[i].a && he[i + 2].b == he[i].b) {
+      while (i + 1 < he.size() && he[i + 1].a == he[i].a && he[i + 1].b == he[i].b) ++i;
+      continue;  // non-manifold edge: no bending across it
+    }
+    BendConstraint c;
+    c.v[0] = he[i].a, c.v[1] = he[i].b, c.v[2] = he[i].opposite, c.v[3] = he[i + 1].opposite;
+    const Eigen::Vector2d &x0 = rest[c.v[0]], &x1 = rest[c.v[1]], &x2 = rest[c.v[2]],
+                          &x3 = rest[c.v[3]];
+    const Eigen::Vector2d e0 = x1 - x0, e1 = x2 - x0, e2 = x3 - x0, e3 = x2 - x1, e4 = x3 - x1;
+    const double c01 = cot(e0, e1), c02 = cot(e0, e2), c03 = cot(-e0, e3), c04 = cot(-e0, e4);
+    c.k[0] = c03 + c04, c.k[1] = c01 + c02, c.k[2] = -c01 - c03, c.k[3] = -c02 - c04;
+    const double a0 = 0.5 * std::abs(e0.x() * e1.y() - e0.y() * e1.x());
+    const double a1 = 0.5 * std::abs(e0.x() * e2.y() - e0.y() * e2.x());
+    c.alpha = (a0 + a1) / 3;
+    ++i;
+    if (!(std::isfinite(c.k[0] + c.k[1] + c.k[2] + c.k[3]) && a0 > 1e-12 && a1 > 1e-12)) continue;
+    bends_.push_back(c);
+  }
+
+  // Stitches and the welded vertex graph (partners are one point once sewn).
+  weld_.resize(nv_);
+  std::iota(weld_.begin(), weld_.end(), 0);
+  for (const Stitch& s : input.stitches) {
+    const int a = result_.panelOffset[s.panelA] + s.vertexA;
+    const int b = result_.panelOffset[s.panelB] + s.vertexB;
+    stitches_.emplace_back(a, b);
+    const int ra = findRoot(weld_, a), rb = findRoot(weld_, b);
+    if (ra != rb) weld_[std::max(ra, rb)] = std::min(ra, rb);
+  }
+  for (int v = 0; v < nv_; ++v) weld_[v] = findRoot(weld_, v);
+  std::vector<std::pair<int, int>> edges;
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = weld_[F_(f, k)], b = weld_[F_(f, (k + 1) % 3)];
+      edges.emplace_back(a, b);
+      edges.emplace_back(b, a);
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  adjStart_.assign(nv_ + 1, 0);
+  for (const auto& e : edges) ++adjStart_[e.first + 1];
+  std::partial_sum(adjStart_.begin(), adjStart_.end(), adjStart_.begin());
+  adj_.resize(edges.size());
+  for (size_t i = 0; i < edges.size(); ++i) adj_[i] = edges[i].second;
+
+  // Colours for the parallel Gauss–Seidel sweeps.
+  triColours_ = colourConstraints(
+      static_cast<int>(tris_.size()), nv_,
+      [&](int c) {
+        return std::array<int, 3>{tris_[c].v[0], tris_[c].v[1], tris_[c].v[2]};
+      },
+      triSerialLast_);
+  bendColours_ = colourConstraints(
+      static_cast<int>(bends_.size()), nv_,
+      [&](int c) {
+        const auto& b = bends_[c];
+        return std::array<int, 4>{b.v[0], b.v[1], b.v[2], b.v[3]};
+      },
+      bendSerialLast_);
+  triLambda_.assign(3 * tris_.size(), 0.0);
+  bendLambda_.assign(bends_.size(), Vector3d::Zero());
+  result_.numConstraints = static_cast<int>(tris_.size() + bends_.size() + stitches_.size());
+  result_.numColours = static_cast<int>(triColours_.size() + bendColours_.size());
+
+  // The body's signed distance over the garment's reach.
+  Eigen::AlignedBox3d cloth;
+  for (const Vector3d& p : x_) cloth.extend(p);
+  BodySdfOptions so;
+  so.voxel = o_.sdfVoxel;
+  so.exteriorBand = std::max(0.02, 4 * o_.sdfVoxel);
+  so.interiorBand = std::max(0.02, 4 * o_.sdfVoxel);
+  const double reach = 0.5;  // metres the cloth may fall or spread beyond its start box
+  so.region.min = cloth.min() - Vector3d::Constant(reach);
+  so.region.max = cloth.max() + Vector3d::Constant(reach);
+  sdf_ = std::make_unique<BodySdf>(input.body, so);
+
+  scene_ = cloth;
+  for (int v = 0; v < input.body.numVertices(); ++v)
+    scene_.extend(Vector3d(input.body.V.row(v).transpose()));
+  const double grow = std::max(1.0, scene_.diagonal().norm());
+  scene_.min().array() -= grow;
+  scene_.max().array() += grow;
+
+  // Vertices that start inside the body: counted per panel, then moved out before the first step.
+  for (size_t p = 0; p < input.panels.size(); ++p) {
+    int inside = 0;
+    for (int v = result_.panelOffset[p]; v < result_.panelOffset[p + 1]; ++v) {
+      const SdfSample s = sdf_->sample(x_[v]);
+      if (s.distance < 0) ++inside;
+      if (s.distance < o_.bodyThickness) x_[v] += (o_.bodyThickness - s.distance) * s.normal;
+    }
+    if (inside > 0)
+      result_.warnings.push_back(fmt::format(
+          "drape: panel '{}' starts with {} of {} vertices inside the body (pushed out before "
+          "sewing; check the placement)",
+          input.panels[p].name, inside, input.panels[p].numVertices()));
+    result_.startInsideBody += inside;
+  }
+  xprev_ = x_;
+  xstep_ = x_;
+  for (const auto& [a, b] : stitches_) stitchStart_.push_back((x_[a] - x_[b]).norm());
+}
+
+template <class Solve>
+void ClothSim::forColours(const std::vector<std::vector<int>>& groups, bool serialLast,
+                          Solve solve) {
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const std::vector<int>& group = groups[g];
+    if (serialLast && g + 1 == groups.size()) {
+      for (int c : group) solve(c);
+      continue;
+    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, group.size(), 256),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i < r.end(); ++i) solve(group[i]);
+                      });
+  }
+}
+
+// Strain-based stretch and shear of one triangle (three scalar XPBD constraints in turn).
+void ClothSim::solveTriangle(const TriangleConstraint& c, double* lambda) {
+  Vector3d& x0 = x_[c.v[0]];
+  Vector3d& x1 = x_[c.v[1]];
+  Vector3d& x2 = x_[c.v[2]];
+  const double w0 = w_[c.v[0]], w1 = w_[c.v[1]], w2 = w_[c.v[2]];
+  const double inv = 1.0 / (c.area * dts_ * dts_);
+  for (int k = 0; k < 3; ++k) {
+    const Vector3d e1 = x1 - x0, e2 = x2 - x0;
+    const Vector3d fu = e1 * c.d00 + e2 * c.d10, fv = e1 * c.d01 + e2 * c.d11;
+    double C, alpha;
+    Vector3d g1, g2;
+    if (k < 2) {
+      const Vector3d& f = k == 0 ? fu : fv;
+      const double l = f.norm();
+      if (l < 1e-12) continue;
+      const Vector3d n = f / l;
+      C = l - 1;
+      g1 = n * (k == 0 ? c.d00 : c.d01);
+      g2 = n * (k == 0 ? c.d10 : c.d11);
+      alpha = o_.stretchCompliance * inv;
+    } else {
+      C = fu.dot(fv);
+      g1 = fv * c.d00 + fu * c.d01;
+      g2 = fv * c.d10 + fu * c.d11;
+      alpha = o_.shearCompliance * inv;
+    }
+    const Vector3d g0 = -(g1 + g2);
+    const double denom =
+        w0 * g0.squaredNorm() + w1 * g1.squaredNorm() + w2 * g2.squaredNorm() + alpha;
+    if (denom < 1e-20) continue;
+    const double dl = (-C - alpha * lambda[k]) / denom;
+    lambda[k] += dl;
+    x0 += w0 * dl * g0;
+    x1 += w1 * dl * g1;
+    x2 += w2 * dl * g2;
+  }
+}
+
+// Isometric bending (Bergou et al. 2006): the vector constraint Σ k_i x_i = 0 is linear, its
+// gradient k_i·I, so each coordinate is an independent scalar XPBD update with one denominator.
+void ClothSim::solveBend(const BendConstraint& c, Vector3d& lambda) {
+  Vector3d C = Vector3d::Zero();
+  double denom = 0;
+  for (int i = 0; i < 4; ++i) {
+    C += c.k[i] * x_[c.v[i]];
+    denom += w_[c.v[i]] * c.k[i] * c.k[i];
+  }
+  const double alpha = o_.bendingCompliance * c.alpha / (dts_ * dts_);
+  denom += alpha;
+  if (denom < 1e-20) return;
+  const Vector3d dl = (-C - alpha * lambda) / denom;
+  lambda += dl;
+  for (int i = 0; i < 4; ++i) x_[c.v[i]] += w_[c.v[i]] * c.k[i] * dl;
+}
+
+// Stitches: the distance of each pair is held at most max(0, L0 − sewSpeed·t), L0 its
+// distance at the start: seams close at sewSpeed, and are hard zero-length constraints after.
+void ClothSim::solveStitches() {
+  for (size_t i = 0; i < stitches_.size(); ++i) {
+    const auto [a, b] = stitches_[i];
+    const double wsum = w_[a] + w_[b];
+    if (wsum <= 0) continue;
+    const Vector3d d = x_[b] - x_[a];
+    const double len = d.norm();
+    const double target = std::max(0.0, stitchStart_[i] - o_.sewSpeed * sewTime_);
+    if (len <= target) continue;
+    const double s = (len - target) / len;
+    x_[a] += (w_[a] / wsum * s) * d;
+    x_[b] -= (w_[b] / wsum * s) * d;
+  }
+}
+
+// Self-collision: keep each found vertex on its side of its triangle, selfThickness away.
+void ClothSim::solveContacts() {
+  const double h = o_.selfThickness;
+  for (const Contact& c : contacts_) {
+    const int i0 = F_(c.t, 0), i1 = F_(c.t, 1), i2 = F_(c.t, 2);
+    const Vector3d &a = x_[i0], &b = x_[i1], &cc = x_[i2], &p = x_[c.v];
+    const Vector3d nn = (b - a).cross(cc - a);
+    const double area2 = nn.norm();
+    if (area2 < 1e-14) continue;
+    const Vector3d n = nn / area2;
+    // Barycentric coordinates of p's projection.
+    const Vector3d q = p - n.dot(p - a) * n;
+    const double ba = (b - q).cross(cc - q).dot(n) / area2;
+    const double bb = (cc - q).cross(a - q).dot(n) / area2;
+    const double bc = 1 - ba - bb;
+    if (ba < -0.05 || bb < -0.05 || bc < -0.05) continue;
+    Vector3d bary(std::max(ba, 0.0), std::max(bb, 0.0), std::max(bc, 0.0));
+    bary /= bary.sum();
+    const Vector3d s = bary[0] * a + bary[1] * b + bary[2] * cc;
+    const double C = c.side * n.dot(p - s) - h;
+    // Apart, or crossed further than the two could have moved since the search (then the side
+    // is no longer known): no correction.
+    if (C >= 0 || C < -contactRadius_ - h) continue;
+    const double denom = w_[c.v] + bary[0] * bary[0] * w_[i0] + bary[1] * bary[1] * w_[i1] +
+                         bary[2] * bary[2] * w_[i2];
+    if (denom < 1e-20) continue;
+    const double dl = -C / denom;
+    const Vector3d dir = c.side * n;
+    x_[c.v] += w_[c.v] * dl * dir;
+    x_[i0] -= w_[i0] * bary[0] * dl * dir;
+    x_[i1] -= w_[i1] * bary[1] * dl * dir;
+    x_[i2] -= w_[i2] * bary[2] * dl * dir;
+  }
+}
+
+// Body: distance ≥ thickness along the SDF gradient, Coulomb friction on the tangential motion
+// of this substep.
+void ClothSim::solveBody(int v) {
+  if (w_[v] == 0) return;
+  const SdfSample s = sdf_->sample(x_[v]);
+  if (s.distance >= o_.bodyThickness) return;
+  const double pen = o_.bodyThickness - s.distance;
+  x_[v] += pen * s.normal;
+  const Vector3d dx = x_[v] - xprev_[v];
+  const Vector3d tangential = dx - dx.dot(s.normal) * s.normal;
+  const double lt = tangential.norm();
+  if (lt > 0) x_[v] -= tangential * std::min(o_.friction * pen / lt, 1.0);
+}
+
+// Vertex–triangle pairs closer than the distance they could close within this step, from a
+// spatial hash of the vertices (counting sort: deterministic); found in fixed chunks of
+// triangles concatenated in order.
+void ClothSim::findContacts() {
+  contacts_.clear();
+  if (!o_.selfCollision || nv_ == 0) return;
+  double vmax = 0;
+  for (const Vector3d& v : vel_) vmax = std::max(vmax, v.squaredNorm());
+  const double span = dts_ * o_.selfCollisionPeriod;  // seconds until the next search
+  vmax = std::min(std::sqrt(vmax) + gravity_.norm() * span, o_.maxSpeed);
+  contactRadius_ = o_.selfThickness + 2 * vmax * span;
+  const double radius = contactRadius_;
+  const double cell = std::max(radius, meanEdge_);
+  const size_t tableSize = std::bit_ceil(static_cast<size_t>(4 * nv_));
+  auto hash = [&](int x, int y, int z) {
+    return (static_cast<size_t>(x) * 73856093u ^ static_cast<size_t>(y) * 19349663u ^
+            static_cast<size_t>(z) * 83492791u) &
+           (tableSize - 1);
+  };
+  struct Entry {
+    int cx, cy, cz, v;
+  };
+  std::vector<int> start(tableSize + 1, 0);
+  std::vector<Entry> entries(nv_);
+  std::vector<size_t> bucket(nv_);
+  for (int v = 0; v < nv_; ++v) {
+    const Eigen::Vector3i c = (x_[v] / cell).array().floor().cast<int>();
+    entries[v] = {c.x(), c.y(), c.z(), v};
+    bucket[v] = hash(c.x(), c.y(), c.z());
+    ++start[bucket[v] + 1];
+  }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  {
+    std::vector<Entry> sorted(nv_);
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int v = 0; v < nv_; ++v) sorted[fill[bucket[v]]++] = entries[v];
+    entries.swap(sorted);
+  }
+  const int nf = static_cast<int>(F_.rows());
+  constexpr int kChunks = 64;
+  std::vector<std::vector<Contact>> found(kChunks);
+  tbb::parallel_for(0, kChunks, [&](int chunk) {
+    const int f0 = static_cast<int>(int64_t(nf) * chunk / kChunks);
+    const int f1 = static_cast<int>(int64_t(nf) * (chunk + 1) / kChunks);
+    std::vector<Contact>& out = found[chunk];
+    for (int f = f0; f < f1; ++f) {
+      const int t[3] = {F_(f, 0), F_(f, 1), F_(f, 2)};
+      const int r[3] = {weld_[t[0]], weld_[t[1]], weld_[t[2]]};
+      const Vector3d &a = x_[t[0]], &b = x_[t[1]], &c = x_[t[2]];
+      const Vector3d nn = (b - a).cross(c - a);
+      if (nn.squaredNorm() < 1e-20) continue;
+      const Vector3d n = nn.normalized();
+      const double invArea2 = 1.0 / nn.norm();
+      const Vector3d lo = a.cwiseMin(b).cwiseMin(c) - Vector3d::Constant(radius);
+      const Vector3d hi = a.cwiseMax(b).cwiseMax(c) + Vector3d::Constant(radius);
+      const Eigen::Vector3i clo = (lo / cell).array().floor().cast<int>();
+      const Eigen::Vector3i chi = (hi / cell).array().floor().cast<int>();
+      for (int i = clo.x(); i <= chi.x(); ++i)
+        for (int j = clo.y(); j <= chi.y(); ++j)
+          for (int k = clo.z(); k <= chi.z(); ++k) {
+            const size_t hk = hash(i, j, k);
+            for (int e = start[hk]; e < start[hk + 1]; ++e) {
+              const Entry& en = entries[e];
+              if (en.cx != i || en.cy != j || en.cz != k) continue;
+              const int v = en.v;
+              if (w_[v] == 0) continue;
+              const Vector3d& p = x_[v];
+              const double d = n.dot(p - a);
+              if (std::abs(d) >= radius) continue;
+              // Only a vertex over (or nearly over) the triangle: the same sheet's in-plane
+              // neighbours project outside it and are no contact.
+              const Vector3d q = p - d * n;
+              const double ba = (b - q).cross(c - q).dot(n) * invArea2;
+              if (ba < -0.25) continue;
+              const double bb = (c - q).cross(a - q).dot(n) * invArea2;
+              if (bb < -0.25 || 1 - ba - bb < -0.25) continue;
+              const int rv = weld_[v];
+              if (rv == r[0] || rv == r[1] || rv == r[2]) continue;
+              bool near = false;  // a vertex of the triangle is a (welded) neighbour of v
+              for (int q = adjStart_[rv]; q < adjStart_[rv + 1] && !near; ++q)
+                near = adj_[q] == r[0] || adj_[q] == r[1] || adj_[q] == r[2];
+              if (near) continue;
+              out.push_back({v, f, d >= 0 ? 1.0 : -1.0});
+            }
+          }
+    }
+  });
+  for (const auto& chunk : found) contacts_.insert(contacts_.end(), chunk.begin(), chunk.end());
+}
+
+void ClothSim::substep() {
+  const double decay = std::exp(-damping_ * dts_);
+  tbb::parallel_for(tbb::blocked_range<int>(0, nv_, 1024), [&](const tbb::blocked_range<int>& r) {
+    for (int v = r.begin(); v < r.end(); ++v) {
+      xprev_[v] = x_[v];
+      if (w_[v] == 0) continue;
+      Vector3d vel = (vel_[v] + gravity_ * dts_) * decay;
+      const double s = vel.norm();
+      if (s > o_.maxSpeed) vel *= o_.maxSpeed / s;
+      x_[v] += vel * dts_;
+    }
+  });
+  std::fill(triLambda_.begin(), triLambda_.end(), 0.0);
+  std::fill(bendLambda_.begin(), bendLambda_.end(), Vector3d::Zero());
+  sewTime_ += dts_;
+  for (int it = 0; it < o_.iterations; ++it) {
+    forColours(triColours_, triSerialLast_,
+               [&](int c) { solveTriangle(tris_[c], &triLambda_[3 * c]); });
+    forColours(bendColours_, bendSerialLast_, [&](int c) { solveBend(bends_[c], bendLambda_[c]); });
+    solveStitches();
+    solveContacts();
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv_, 1024), [&](const tbb::blocked_range<int>& r) {
+      for (int v = r.begin(); v < r.end(); ++v) solveBody(v);
+    });
+    solves_ += 3LL * static_cast<long long>(tris_.size()) + static_cast<long long>(bends_.size()) +
+               static_cast<long long>(stitches_.size() + contacts_.size()) + nv_;
+  }
+  tbb::parallel_for(tbb::blocked_range<int>(0, nv_, 1024), [&](const tbb::blocked_range<int>& r) {
+    for (int v = r.begin(); v < r.end(); ++v) vel_[v] = (x_[v] - xprev_[v]) / dts_;
+  });
+}
+
+// One step (frame); false (with the reason) when the state is no longer a cloth.
+bool ClothSim::step(std::string& why) {
+  dts_ = o_.timeStep / o_.substeps;
+  xstep_ = x_;
+  for (int s = 0; s < o_.substeps; ++s) {
+    if (s % o_.selfCollisionPeriod == 0) findContacts();
+    substep();
+  }
+  double maxSpeed = 0;
+  bool finiteState = true, inScene = true;
+  for (int v = 0; v < nv_; ++v) {
+    if (!x_[v].allFinite()) {
+      finiteState = false;
+      break;
+    }
+    inScene = inScene && scene_.contains(x_[v]);
+    maxSpeed = std::max(maxSpeed, (x_[v] - xstep_[v]).norm() / o_.timeStep);
+  }
+  if (!finiteState) {
+    why = "a vertex position became NaN or infinite";
+    return false;
+  }
+  if (maxSpeed > o_.explodeSpeed) {
+    why = fmt::format("a vertex moved at {:.1f} m/s (explosion threshold {:.1f} m/s)", maxSpeed,
+                      o_.explodeSpeed);
+    return false;
+  }
+  if (!inScene) {
+    why = "the cloth left the scene (fell through the body or was flung away)";
+    return false;
+  }
+  double maxStrain = 0;
+  int worst = -1;
+  for (size_t t = 0; t < tris_.size(); ++t) {
+    const TriangleConstraint& c = tris_[t];
+    const Vector3d e1 = x_[c.v[1]] - x_[c.v[0]], e2 = x_[c.v[2]] - x_[c.v[0]];
+    const double strain =
+        std::max((e1 * c.d00 + e2 * c.d10).norm(), (e1 * c.d01 + e2 * c.d11).norm());
+    if (strain > maxStrain) maxStrain = strain, worst = static_cast<int>(t);
+  }
+  if (maxStrain > o_.explodeStrain) {
+    const Vector3d& p = x_[tris_[worst].v[0]];
+    why = fmt::format(
+        "a triangle is stretched {:.1f}× its pattern size (threshold {:.1f}×), garment vertex {} "
+        "at ({:.3f}, {:.3f}, {:.3f})",
+        maxStrain, o_.explodeStrain, tris_[worst].v[0], p.x(), p.y(), p.z());
+    return false;
+  }
+  lastStepSpeed_ = maxSpeed;
+  return true;
+}
+
+double ClothSim::stitchGap(double* mean) const {
+  double mx = 0, sum = 0;
+  for (const auto& [a, b] : stitches_) {
+    const double g = (x_[a] - x_[b]).norm();
+    mx = std::max(mx, g);
+    sum += g;
+  }
+  if (mean) *mean = stitches_.empty() ? 0 : sum / stitches_.size();
+  return mx;
+}
+
+void ClothSim::run() {
+  DrapeResult& r = result_;
+  std::string why;
+  bool ok = true;
+  std::vector<Vector3d> good = x_;  // the last finite state, returned on failure
+  auto doStep = [&] {
+    ok = step(why);
+    if (ok) good = x_;
+    return ok;
+  };
+
+  // Phase 1: sew, gravity off, seams closing at most sewSpeed.
+  gravity_.setZero();
+  damping_ = o_.sewDamping;
+  if (stitches_.empty()) {
+    r.warnings.push_back(
+        fmt::format("drape: the pattern has no stitches; the panels are draped unsewn"));
+    r.seamsClosed = true;
+  } else {
+    int closedFor = -1;
+    while (r.sewSteps < o_.sewMaxSteps) {
+      ++r.sewSteps;
+      if (!doStep()) break;
+      if (stitchGap(nullptr) < o_.sewTolerance) {
+        if (++closedFor >= o_.sewSettleSteps) break;
+      } else {
+        closedFor = -1;
+      }
+    }
+    r.seamsClosed = ok && stitchGap(nullptr) < o_.sewTolerance;
+    if (ok && !r.seamsClosed)
+      r.warnings.push_back(fmt::format(
+          "drape: the seams did not close in the sewing budget of {} steps (largest gap {:.1f} "
+          "mm); draping anyway",
+          o_.sewMaxSteps, 1e3 * stitchGap(nullptr)));
+  }
+
+  // Phase 2: drape under gravity until every vertex is slower than restSpeed for restSteps.
+  if (ok) {
+    gravity_ = o_.gravity;
+    damping_ = o_.damping;
+    // Stitches keep closing at sewSpeed: a seam still open after the sewing budget does not snap.
+    for (Vector3d& v : vel_) v.setZero();
+    int calm = 0;
+    while (r.drapeSteps < o_.drapeMaxSteps) {
+      ++r.drapeSteps;
+      if (!doStep()) break;
+      calm = lastStepSpeed_ < o_.restSpeed ? calm + 1 : 0;
+      if (calm >= o_.restSteps && r.drapeSteps >= o_.drapeMinSteps) {
+        r.settled = true;
+        break;
+      }
+    }
+    if (ok && !r.settled)
+      r.warnings.push_back(fmt::format(
+          "drape: the cloth did not come to rest in the drape budget of {} steps (fastest "
+          "vertex {:.3f} m/s, rest below {:.3f} m/s)",
+          o_.drapeMaxSteps, lastStepSpeed_, o_.restSpeed));
+  }
+
+  // Outputs and figures.
+  if (!ok) x_ = good;
+  r.garment.V.resize(nv_, 3);
+  for (int v = 0; v < nv_; ++v) r.garment.V.row(v) = x_[v].transpose();
+  r.garment.F = F_;
+  r.panels.clear();
+  for (size_t p = 0; p + 1 < r.panelOffset.size(); ++p)
+    r.panels.push_back(
+        r.garment.V.middleRows(r.panelOffset[p], r.panelOffset[p + 1] - r.panelOffset[p]));
+  r.maxStitchGap = stitchGap(&r.meanStitchGap);
+  // Penetrations with the exact distance where the grid says the vertex is near or inside.
+  std::vector<double> depth(nv_, 0.0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, nv_, 256), [&](const tbb::blocked_range<int>& rr) {
+    for (int v = rr.begin(); v < rr.end(); ++v) {
+      if (!x_[v].allFinite() || sdf_->sample(x_[v]).distance > o_.bodyThickness) continue;
+      depth[v] = std::max(0.0, -sdf_->exact(x_[v]).distance);
+    }
+  });
+  for (double d : depth) {
+    r.bodyPenetrations += d > 0;
+    r.maxPenetration = std::max(r.maxPenetration, d);
+  }
+  if (r.garment.V.allFinite()) r.selfIntersections = countSelfIntersections(r.garment, weld_);
+  r.constraintSolves = solves_;
+  if (!ok) {
+    r.status = DrapeStatus::Failed;
+    r.failure = fmt::format("drape failed at step {} ({} sewing, {} draping): {}",
+                            r.sewSteps + r.drapeSteps, r.sewSteps, r.drapeSteps, why);
+    r.warnings.push_back(r.failure);
+  } else {
+    r.status = r.seamsClosed && r.settled ? DrapeStatus::Settled : DrapeStatus::NotSettled;
+  }
+  // GarmentCode's quality gates.
+  if (ok && r.bodyPenetrations > 35)
+    r.warnings.push_back(fmt::format(
+        "drape: {} vertices inside the body (GarmentCode's gate: at most 35)", r.bodyPenetrations));
+  if (ok && r.selfIntersections > 300)
+    r.warnings.push_back(
+        fmt::format("drape: {} self-intersecting triangle pairs (GarmentCode's gate: at most 300)",
+                    r.selfIntersections));
+}
+
+void validate(const DrapeInput& in, const DrapeOptions& o) {
+  if (in.panels.empty()) throw InputError("drape: the pattern has no panels");
+  for (size_t p = 0; p < in.panels.size(); ++p) {
+    const ClothPanel& panel = in.panels[p];
+    const std::string name = fmt::format("drape: panel {} '{}'", p, panel.name);
+    if (panel.numFaces() == 0 || panel.numVertices() < 3)
+      throw InputError(name + " has no triangles");
+    if (panel.start.rows() != panel.rest2d.rows())
+      throw InputError(
+          fmt::format("{}: {} flat vertices but {} placed ones; both must list the "
+                      "same vertices in the same order",
+                      name, panel.rest2d.rows(), panel.start.rows()));
+    if (!panel.rest2d.allFinite() || !panel.start.allFinite())
+      throw InputError(name + " has a non-finite (NaN or infinite) vertex coordinate");
+    if (panel.F.minCoeff() < 0 || panel.F.maxCoeff() >= panel.numVertices())
+      throw InputError(fmt::format("{}: a face refers to a vertex outside 0..{}", name,
+                                   panel.numVertices() - 1));
+  }
+  for (size_t i = 0; i < in.stitches.size(); ++i) {
+    const Stitch& s = in.stitches[i];
+    const int np = static_cast<int>(in.panels.size());
+    auto bad = [&](int panel, int vertex) {
+      return panel < 0 || panel >= np || vertex < 0 || vertex >= in.panels[panel].numVertices();
+    };
+    if (bad(s.panelA, s.vertexA) || bad(s.panelB, s.vertexB))
+      throw InputError(
+          fmt::format("drape: stitch {} ({}:{} – {}:{}) refers to a panel or vertex "
+                      "that does not exist",
+                      i, s.panelA, s.vertexA, s.panelB, s.vertexB));
+    if (s.panelA == s.panelB && s.vertexA == s.vertexB)
+      throw InputError(fmt::format("drape: stitch {} sews vertex {} of panel {} to itself", i,
+                                   s.vertexA, s.panelA));
+  }
+  auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  auto nonNegative = [](double v) { return std::isfinite(v) && v >= 0; };
+  if (!positive(o.timeStep) || o.substeps < 1 || o.iterations < 1 || o.selfCollisionPeriod < 1)
+    throw InputError("drape: the time step must be positive, substeps and iterations at least 1");
+  if (!nonNegative(o.stretchCompliance) || !nonNegative(o.shearCompliance) ||
+      !nonNegative(o.bendingCompliance) || !positive(o.density))
+    throw InputError("drape: compliances must be ≥ 0 and the density > 0");
+  if (!nonNegative(o.bodyThickness) || !nonNegative(o.selfThickness) || !nonNegative(o.friction) ||
+      !nonNegative(o.damping) || !nonNegative(o.sewDamping) || !positive(o.maxSpeed) ||
+      !positive(o.sewSpeed) || !positive(o.sewTolerance) || !o.gravity.allFinite())
+    throw InputError(
+        "drape: thicknesses, friction, damping must be ≥ 0; speeds and the sewing "
+        "tolerance > 0; gravity finite");
+  if (o.sewMaxSteps < 0 || o.drapeMaxSteps < 0) throw InputError("drape: step budgets must be ≥ 0");
+}
+
+}  // namespace
+
+DrapeResult runDrape(const DrapeInput& input, const DrapeOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  validate(input, options);
+  validateMesh(input.body, "drape body");
+  DrapeResult result;
+  ClothSim sim(input, options, result);
+  sim.run();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  result.constraintSolvesPerSecond =
+      result.seconds > 0 ? static_cast<double>(result.constraintSolves) / result.seconds : 0;
+  return result;
+}
+
+}  // namespace s2p

