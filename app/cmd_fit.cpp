@@ -9,6 +9,7 @@
 
 #include "app/commands.h"
 #include "app/fit_output.h"
+#include "app/pattern_files.h"
 #include "app/pattern_output.h"
 #include "app/run_pipeline.h"
 #include "app/segment_output.h"
@@ -113,6 +114,13 @@ std::string patternColumns(const RunOutput& run, const Truth& truth, const Scan&
     return fmt::format(" pattern error: {} |||||||", run.patternErrorMessage);
   }
   writePanels(outDir / "pattern", scan, run.pattern.panels);
+  try {
+    writeFlatPattern(outDir / "pattern", scan, run.pattern.panels, run.pattern.flat);
+    writePatternFiles(outDir / "pattern", scan, run.pattern, {});
+    row["placement"] = placementToJson(run.pattern);
+  } catch (const Error& e) {
+    row["pattern_files_error"] = e.what();
+  }
   const PatternScore ps =
       scorePattern(run.pattern.panels, truth, run.fit.fittedInScanFrame(), run.fit.canonicalInScanFrame());
   std::string types, sets;
