@@ -333,6 +333,7 @@ struct BoundaryJob {
   // trousers or tucked into them).
   double deltaE = 100;
   double highSide = -1;
+  bool geometry = true;  // false: colour alone whatever deltaE
 };
 
 // The labelled region points projected to the scan, by RegionLabel (skin, upper, lower, foot);
@@ -460,7 +461,9 @@ class Segmenter {
       if (out.shoes) {
         job.regions.push_back(kFoot);
         job.positive.push_back(true);
-        job.deltaE = std::min(job.deltaE, separation(kLower, kFoot));
+        // Beyond the hem lies a shoe, which stands off the foot like a garment: the offset does
+        // not say which side is which (the colour, or the ankle template, decides).
+        job.geometry = false;
         // The mixture must tell the foot's own points from the lower garment's.
         const double footAsLower = fractionNegative(job, colours_.colours[kFoot]);
         const double lowerAsFoot = 1 - fractionNegative(job, colours_.colours[kLower]);
@@ -780,7 +783,9 @@ class Segmenter {
     Eigen::VectorXd phiD =
         smoothedDisplacement(stage.mesh, models, job.positive, stage.lab, options_.colour);
     BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
-    const double w = stage.step.size() > 0 ? geometryWeight(job.deltaE, options_.geometry) : 0.0;
+    const double w = stage.step.size() > 0 && job.geometry
+                         ? geometryWeight(job.deltaE, options_.geometry)
+                         : 0.0;
     if (job.keepInitial) {
       BoundaryResult& r = run.result;
       r.phi0 = r.phi = optimizer.initialImplicit(f.splines, f.signs);
