@@ -79,8 +79,10 @@ PipelineResult runPipeline(const Scan& scan, const BodyModel& model, const Pipel
   out.stages.emplace_back("fit", secondsSince(t));
   t = Clock::now();
   out.body = fittedFeatures(model, out.fit);
-  out.segmentation = segmentScan(scan.mesh, scan.colour, out.body.body, out.body.features,
-                                 options.segment, &progress);
+  // The full fit carries the features; the body fitted under the clothes gives the scan's
+  // offset from the body, the segmentation's geometric cue (segment/body_offset.h).
+  out.segmentation = segmentScan(scan.mesh, scan.colour, out.body.body, out.fit.fittedInScanFrame(),
+                                 out.body.features, options.segment, &progress);
   out.stages.emplace_back("segment", secondsSince(t));
   try {
     out.pattern = runPattern(panelsInput(out.segmentation, out.body), out.body, scan.mesh,

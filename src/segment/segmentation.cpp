@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
+#include <limits>
 #include <map>
 #include <optional>
 
@@ -56,6 +57,10 @@ struct Stage {
   Eigen::MatrixX3d srgb;       // #V×3
   Eigen::VectorXi faceOrigin;  // #F → scan face
   Eigen::VectorXi scanVertex;  // #V → scan vertex, −1 for a vertex made by a cut
+  // With the body under the clothes (empty without): the offset from it and the step field
+  // (segment/body_offset.h), both computed once on the whole scan and carried through the cuts.
+  Eigen::VectorXd offset;  // #V, m
+  Eigen::VectorXd step;    // #V, m
 };
 
 Stage childStage(const Stage& parent, const CutPart& part) {
@@ -70,6 +75,15 @@ Stage childStage(const Stage& parent, const CutPart& part) {
     s.lab.row(v) = (1 - o.t) * parent.lab.row(o.a) + o.t * parent.lab.row(o.b);
     s.srgb.row(v) = (1 - o.t) * parent.srgb.row(o.a) + o.t * parent.srgb.row(o.b);
     s.scanVertex[v] = o.isOriginal() ? parent.scanVertex[o.a] : -1;
+  }
+  if (parent.step.size() > 0) {
+    s.offset.resize(n);
+    s.step.resize(n);
+    for (int v = 0; v < n; ++v) {
+      const VertexOrigin& o = part.vertexOrigin[v];
+      s.offset[v] = (1 - o.t) * parent.offset[o.a] + o.t * parent.offset[o.b];
+      s.step[v] = (1 - o.t) * parent.step[o.a] + o.t * parent.step[o.b];
+    }
   }
   s.faceOrigin.resize(part.faceOrigin.size());
   for (int f = 0; f < part.faceOrigin.size(); ++f)
@@ -312,6 +326,14 @@ struct BoundaryJob {
   // Colour cannot tell the sides apart (e.g. black trousers over black shoes): the boundary
   // stays on the initial spline (φ₀), with a note, instead of wandering.
   bool keepInitial = false;
+  // The geometric cues: ΔE between the two sides' colours (their weight, geometryWeight), and
+  // which side of a step is positive: −1 when the positive side is skin or what a garment
+  // covers (the garment is the outer, offset side), +1 when it is the outer garment, 0 to take
+  // it from the steps near the initial curve (stepOrientation; B(U|L): a top worn over the
+  // trousers or tucked into them).
+  double deltaE = 100;
+  double highSide = -1;
+  bool geometry = true;  // false: colour alone whatever deltaE
 };
 
 // The labelled region points projected to the scan, by RegionLabel (skin, upper, lower, foot);
@@ -361,11 +383,20 @@ struct BoundaryRun {
 class Segmenter {
  public:
   Segmenter(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
-            const FeatureSet& features, const SegmentationOptions& options, Progress& progress)
+            const TriMesh* underBody, const FeatureSet& features,
+            const SegmentationOptions& options, Progress& progress)
       : scan_(scan), options_(options), progress_(progress) {
     validateMesh(scan, "scan");
     validateMesh(body, "body");
     checkColour(scan, colour);
+    if (underBody && options.geometry.enabled) {
+      validateMesh(*underBody, "body under the clothes");
+      progress_.begin("offset from the body under the clothes");
+      const MeshQuery under(*underBody);
+      root_.offset = bodyOffset(scan, under, *underBody);
+      root_.step = stepField(scan, root_.offset, options.geometry);
+      progress_.end();
+    }
     height_ = bodyHeight(body);
     bodyQuery_ = std::make_unique<MeshQuery>(body);
     tolerance_ = 1e-7 * std::max(height_, 1.0);
@@ -381,7 +412,7 @@ class Segmenter {
     progress_.end();
 
     root_.mesh = scan;
-    root_.lab = colours_.lab;
+    root_.lab = colours_.lab;  // root_.offset and root_.step are set above
     root_.srgb = colour;
     root_.faceOrigin = Eigen::VectorXi::LinSpaced(scan.numFaces(), 0, scan.numFaces() - 1);
     root_.scanVertex = Eigen::VectorXi::LinSpaced(scan.numVertices(), 0, scan.numVertices() - 1);
@@ -395,7 +426,7 @@ class Segmenter {
     // The chest is covered by any top; the hips are not when the top is worn untucked, and their
     // points then teach the lower model the top's colours.
     double borrowed = 0;
-    if (out.layout == GarmentLayout::UpperLower)
+    if (out.layout == GarmentLayout::UpperLower && !tentativeOnePiece_)
       colours_.models[kLower] = withoutBorrowedComponents(colours_.models[kLower],
                                                           colours_.models[kUpper], 0.5, &borrowed);
     if (borrowed > 0)
@@ -414,6 +445,7 @@ class Segmenter {
     if (hasUpper) {
       BoundaryJob job{&upperSkin_, {kSkin, kUpper}, {true, false}, options_.gapFilling,
                       upperLabel, Label::Skin};
+      job.deltaE = separation(kUpper, kSkin);
       auto [run, cut] = optimiseAndCut(current, job);
       out.boundaries.push_back(run.report);
       labels.add(childStage(current, cut.positive), Label::Skin);
@@ -425,9 +457,13 @@ class Segmenter {
     if (hasLower) {
       BoundaryJob job{&lowerSkin_, {kSkin, kLower}, {true, false}, options_.gapFilling,
                       lowerLabel, Label::Skin};
+      job.deltaE = separation(kLower, kSkin);
       if (out.shoes) {
         job.regions.push_back(kFoot);
         job.positive.push_back(true);
+        // Beyond the hem lies a shoe, which stands off the foot like a garment: the offset does
+        // not say which side is which (the colour, or the ankle template, decides).
+        job.geometry = false;
         // The mixture must tell the foot's own points from the lower garment's.
         const double footAsLower = fractionNegative(job, colours_.colours[kFoot]);
         const double lowerAsFoot = 1 - fractionNegative(job, colours_.colours[kLower]);
@@ -463,6 +499,7 @@ class Segmenter {
     out.regionPoints = regionPoints_;
     out.droppedRegionPoints = droppedRegionPoints_;
     for (const std::string& n : skipNotes_) out.notes.push_back(n);
+    for (const std::string& n : geometryNotes_) out.notes.push_back(n);
     for (const BoundaryReport& b : out.boundaries)
       if (!b.converged)
         out.notes.push_back(fmt::format("boundary {} did not converge in {} iterations", b.name,
@@ -485,9 +522,56 @@ class Segmenter {
     for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
+    if (hasGeometry())
+      for (int r = 0; r < 4; ++r) {
+        std::vector<double> o;
+        for (const SurfacePoint& p : regions[r]) {
+          int corner = 0;
+          p.bary.maxCoeff(&corner);
+          o.push_back(root_.offset[scan_.F(p.face, corner)]);
+        }
+        regionOffset_[r] = median(o);
+        regionClothed_[r] = offsetSaysClothed(o, options_.geometry);
+      }
+  }
+
+  bool hasGeometry() const { return root_.step.size() > 0; }
+
+  static double median(std::vector<double> v) {
+    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  }
+
+  // The person's own skin: skinSpreadFactor × the 90th percentile ΔE of the skin region's points
+  // from their mean, within [minSkinDeltaE, sameColourDeltaE].
+  double personSkinDeltaE() const {
+    const Eigen::MatrixXd& lab = colours_.colours[kSkin];
+    std::vector<double> d;
+    for (int i = 0; i < lab.rows(); ++i)
+      d.push_back(deltaE2000(lab.row(i).transpose(), colours_.means[kSkin]));
+    if (d.empty()) return options_.sameColourDeltaE;
+    const size_t k = std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
+    std::nth_element(d.begin(), d.begin() + k, d.end());
+    return std::clamp(options_.skinSpreadFactor * d[k], options_.minSkinDeltaE,
+                      options_.sameColourDeltaE);
   }
 
   double deltaE(int a, int b) const { return deltaE2000(colours_.means[a], colours_.means[b]); }
+
+  // How far apart two regions' colours are for the geometric cues' weight: the median CIEDE2000
+  // of a's points from b's mean colour, or of b's from a's, the larger (a striped dress's mean
+  // is near skin, its points are not).
+  double separation(int a, int b) const {
+    const auto medianFrom = [&](int from, int to) {
+      const Eigen::MatrixXd& lab = colours_.colours[from];
+      std::vector<double> d;
+      for (int i = 0; i < lab.rows(); ++i)
+        d.push_back(deltaE2000(lab.row(i).transpose(), colours_.means[to]));
+      return median(d);
+    };
+    return std::max(medianFrom(a, b), medianFrom(b, a));
+  }
 
   // Fraction of region r's points within `threshold` of the skin's mean colour. A garment is
   // missing when most of its region looks like skin: the region's mean colour alone would take
@@ -508,10 +592,33 @@ class Segmenter {
     out.footSkinDeltaE = hasFootRegion_ ? deltaE(kFoot, kSkin) : 0.0;
     const double same = options_.sameColourDeltaE;
     out.shoes = hasFootRegion_ && out.footSkinDeltaE >= same;
-    out.upperSkinLike = skinLikeFraction(kUpper, same);
-    out.lowerSkinLike = skinLikeFraction(kLower, same);
-    const bool noUpper = out.upperSkinDeltaE < same && out.upperSkinLike > 0.5;
-    const bool noLower = out.lowerSkinDeltaE < same && out.lowerSkinLike > 0.5;
+    // Skin-like by this person's skin (its spread on the face and hands), not a fixed ΔE.
+    const double skin = personSkinDeltaE();
+    out.skinDeltaE = skin;
+    out.upperSkinLike = skinLikeFraction(kUpper, skin);
+    out.lowerSkinLike = skinLikeFraction(kLower, skin);
+    bool noUpper = out.upperSkinDeltaE < skin && out.upperSkinLike > 0.5;
+    bool noLower = out.lowerSkinDeltaE < skin && out.lowerSkinLike > 0.5;
+    out.geometricCues = hasGeometry();
+    out.upperOffset = regionOffset_[kUpper];
+    out.lowerOffset = regionOffset_[kLower];
+    if (hasGeometry()) {
+      // A region off the body by more than a garment's minimum is clothed whatever its colour (a
+      // top of the wearer's skin tone); one on the body is bare when its colour is this person's
+      // skin, as a tight garment lies on the body too (and the fitted body, pushed into the ease,
+      // lies within a few mm of most garments).
+      const double g = options_.geometry.garmentOffset;
+      const bool u = noUpper && !regionClothed_[kUpper];
+      const bool l = noLower && !regionClothed_[kLower];
+      if (u != noUpper || l != noLower)
+        out.notes.push_back(fmt::format(
+            "the body under the clothes decides the garments: upper region {:.0f} mm off it "
+            "(median; {} ), lower region {:.0f} mm ({}); a garment lies more than {:.0f} mm off",
+            1000 * out.upperOffset, u ? "bare" : "clothed", 1000 * out.lowerOffset,
+            l ? "bare" : "clothed", 1000 * g));
+      noUpper = u;
+      noLower = l;
+    }
     if (noUpper && noLower)
       throw InputError(fmt::format(
           "segmentation: no garment found: the upper body (ΔE {:.1f}) and the lower body (ΔE "
@@ -527,6 +634,10 @@ class Segmenter {
       out.notes.push_back(fmt::format(
           "no lower garment: leg colour within ΔE {:.1f} of skin, {:.0f} % of its points",
           out.lowerSkinDeltaE, 100 * out.lowerSkinLike));
+    } else if (out.upperLowerDeltaE < same && hasGeometry()) {
+      // The colour says one piece; a hem step between the two regions says two. B(U|L) is run on
+      // the steps and decides (splitUpperLower).
+      tentativeOnePiece_ = true;
     } else if (out.upperLowerDeltaE < same) {
       out.layout = GarmentLayout::OnePiece;
       out.notes.push_back(fmt::format(
@@ -669,14 +780,38 @@ class Segmenter {
     }
     std::vector<GaussianMixture> models;
     for (int r : job.regions) models.push_back(colours_.models[r]);
-    const Eigen::VectorXd phiD =
+    Eigen::VectorXd phiD =
         smoothedDisplacement(stage.mesh, models, job.positive, stage.lab, options_.colour);
     BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
+    const double w = stage.step.size() > 0 && job.geometry
+                         ? geometryWeight(job.deltaE, options_.geometry)
+                         : 0.0;
     if (job.keepInitial) {
       BoundaryResult& r = run.result;
       r.phi0 = r.phi = optimizer.initialImplicit(f.splines, f.signs);
       r.initial = r.boundary = extractIsoline(stage.mesh, r.phi);
       r.converged = true;
+    } else if (w > 0) {
+      // Colour that cannot tell the sides apart: the steps of the offset join it (body_offset.h).
+      const auto tInit = Clock::now();
+      const Eigen::VectorXd phi0 = optimizer.initialImplicit(f.splines, f.signs);
+      double high = job.highSide;
+      if (high == 0) {
+        constexpr double kBand = 0.25;  // m: the steps within a hand's span of the initial curve
+        const double o = stepOrientation(stage.mesh, stage.offset, stage.step, phi0, kBand,
+                                         options_.geometry);
+        high = o < 0 ? -1.0 : 1.0;  // no step near the curve: the common case, a top worn over
+      }
+      phiD = combinedDisplacement(phiD, stepDisplacement(stage.step, high, options_.geometry), w);
+      rep.geometryWeight = w;
+      rep.highSide = high;
+      geometryNotes_.push_back(fmt::format(
+          "boundary {}: the two sides' colours {:.1f} ΔE apart, the steps of the offset from the "
+          "body weigh {:.2f} beside the colour (outer garment on the {} side)",
+          curve.name, job.deltaE, w, high > 0 ? "positive" : "negative"));
+      const double initSeconds = secondsSince(tInit);
+      run.result = optimizer.iterate(phi0, f.signs, phiD);
+      run.result.timings.total += initSeconds;
     } else {
       run.result = optimizer.run(f.splines, f.signs, phiD);
     }
@@ -778,13 +913,43 @@ class Segmenter {
     const bool upperOnly = out.layout == GarmentLayout::UpperOnly;
     BoundaryJob job{&upperLower_, {lowerOnly ? kSkin : kUpper, upperOnly ? kSkin : kLower},
                     {true, false}, false, Label::Upper, Label::Lower};
+    job.deltaE = separation(kUpper, kLower);
+    job.highSide = 0;  // from the steps: a top worn over the trousers, or tucked in
     if (lowerOnly) {
       job.garment = Label::Lower;
       job.other = Label::Skin;
+      job.deltaE = separation(kLower, kSkin);
+      job.highSide = -1;  // skin on the positive side
     } else if (upperOnly) {
       job.other = Label::Skin;
+      job.deltaE = separation(kUpper, kSkin);
+      job.highSide = 1;  // the top over bare legs
     }
     auto [run, cut] = optimiseAndCut(stage, job);
+    if (tentativeOnePiece_) {
+      // Upper and lower of one colour: two garments only when the waist boundary found runs
+      // along a step of the offset (a hem); otherwise one piece, as §5.3 decides by colour.
+      const double support =
+          run.result.vanished ? 0.0 : hemContrast(stage.mesh, run.result.phi, stage.step,
+                                                  run.report.highSide, options_.geometry);
+      run.report.hemContrast = support;
+      if (support < options_.geometry.hemContrast) {
+        out.layout = GarmentLayout::OnePiece;
+        labels.add(stage, Label::Upper);
+        out.garments.push_back(piece("onepiece", Label::Upper, stage));
+        for (BoundaryReport& b : out.boundaries)
+          if (b.name == lowerSkin_.name) b.garment = Label::Upper;
+        out.notes.push_back(fmt::format(
+            "one-piece garment: upper and lower body colours within ΔE {:.1f} (§5.3), and no "
+            "hem under the waist boundary found (median step {:.2f} mm, a hem shows ≥ {:.1f})",
+            out.upperLowerDeltaE, 1000 * support, 1000 * options_.geometry.hemContrast));
+        return;
+      }
+      out.notes.push_back(fmt::format(
+          "upper and lower garments of one colour (ΔE {:.1f}) told apart by the hem: the waist "
+          "boundary runs along a step of the offset from the body (median {:.2f} mm)",
+          out.upperLowerDeltaE, 1000 * support));
+    }
     const Label positiveLabel = lowerOnly ? Label::Skin : Label::Upper;
     const Label negativeLabel = upperOnly ? Label::Skin : Label::Lower;
     const Stage positive = childStage(stage, cut.positive), negative = childStage(stage, cut.negative);
@@ -870,22 +1035,34 @@ class Segmenter {
   ProjectedCurve upperSkin_, lowerSkin_, upperLower_;
   RegionColours colours_;
   bool hasFootRegion_ = false;
+  // Median offset of each region's points from the body under the clothes (m), NaN without it.
+  double regionOffset_[4] = {std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::quiet_NaN()};
+  bool regionClothed_[4] = {false, false, false, false};  // offsetSaysClothed per region
+  // Upper and lower of one colour with the geometric cues: one piece unless B(U|L) finds a hem.
+  bool tentativeOnePiece_ = false;
   std::vector<Vec3> footPoints_;  // projected foot region points
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;
   std::unique_ptr<MeshQuery> bodyQuery_;
   std::vector<std::string> projectionNotes_;  // fallbacks of the feature projection
   std::vector<std::string> skipNotes_;        // boundaries skipped (optimiseAndCut)
+  std::vector<std::string> geometryNotes_;    // boundaries the geometric cues joined
 };
 
 }  // namespace
 
-Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
-                         const FeatureSet& features, const SegmentationOptions& options,
-                         Progress* progress) {
+namespace {
+
+Segmentation segmentScanWith(const TriMesh& scan, const Eigen::MatrixX3d& colour,
+                             const TriMesh& body, const TriMesh* underBody,
+                             const FeatureSet& features, const SegmentationOptions& options,
+                             Progress* progress) {
   Progress& p = progress ? *progress : Progress::silent();
   try {
-    Segmenter s(scan, colour, body, features, options, p);
+    Segmenter s(scan, colour, body, underBody, features, options, p);
     return s.run();
   } catch (const SolverError& e) {
     if (std::string(e.what()).rfind("segmentation", 0) == 0) throw;  // already restated
@@ -893,6 +1070,20 @@ Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, co
                            "check the scan with `scan2pattern info`, clean or remesh it, and try "
                            "again");
   }
+}
+
+}  // namespace
+
+Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
+                         const FeatureSet& features, const SegmentationOptions& options,
+                         Progress* progress) {
+  return segmentScanWith(scan, colour, body, nullptr, features, options, progress);
+}
+
+Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
+                         const TriMesh& underBody, const FeatureSet& features,
+                         const SegmentationOptions& options, Progress* progress) {
+  return segmentScanWith(scan, colour, body, &underBody, features, options, progress);
 }
 
 Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,

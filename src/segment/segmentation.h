@@ -18,6 +18,7 @@
 #include "core/labels.h"
 #include "core/progress.h"
 #include "core/tri_mesh.h"
+#include "segment/body_offset.h"
 #include "segment/boundary_optimizer.h"
 #include "segment/colour_model.h"
 #include "segment/mrf.h"
@@ -65,6 +66,16 @@ struct SegmentationOptions {
   // difference of their mean CIELAB colours is below this; a garment is missing when its region
   // is the skin's colour in this sense and most of its points are within this of the skin's.
   double sameColourDeltaE = 10.0;
+  // The person's own skin (issue 18): a region point is skin-like when it lies within
+  // skinSpreadFactor × the 90th percentile of the skin region's own ΔE from its mean (the face
+  // and hands of this scan: its skin under this scan's light), floored at minSkinDeltaE and
+  // capped at sameColourDeltaE. A bare torso is drawn from the same skin and spreads alike; a
+  // top of a skin-like tone lies outside this person's spread.
+  double skinSpreadFactor = 2.0;
+  double minSkinDeltaE = 3.0;
+  // The step and offset cues (segment/body_offset.h), used when segmentScan is given the body
+  // fitted under the clothes.
+  GeometricCueOptions geometry;
   // §5.3: the optimised waist boundary is "close to" the initial one when its mean height
   // differs by less than this (m); otherwise the garment on the lower side is occluded.
   double occlusionShift = 0.03;
@@ -92,6 +103,9 @@ struct BoundaryReport {
   bool gapApplied = false;  // ... and its boundary was kept
   double gapShift = 0;      // 95th percentile distance (m) between the two passes' boundaries
   int islandsRemoved = 0;   // regions below minRegionArea merged into their surroundings
+  double geometryWeight = 0;  // weight of the step field in the displacement (0: colour alone)
+  double highSide = 0;        // +1: the outer garment on the positive side; −1: on the negative
+  double hemContrast = -1;    // B(U|L) of one colour: median step vote (m) at it (−1: not asked)
   double seconds = 0;
   BoundaryTimings timings;
 };
@@ -118,6 +132,11 @@ struct Segmentation {
   double upperLowerDeltaE = 0, upperSkinDeltaE = 0, lowerSkinDeltaE = 0, footSkinDeltaE = 0;
   // Fraction of the upper / lower region points within sameColourDeltaE of the skin's colour.
   double upperSkinLike = 0, lowerSkinLike = 0;
+  double skinDeltaE = 0;  // the person's skin threshold used for upperSkinLike / lowerSkinLike
+  // Median offset (m) of the upper / lower region points from the body under the clothes; NaN
+  // without that body.
+  double upperOffset = 0, lowerOffset = 0;
+  bool geometricCues = false;  // the step and offset cues were used
   int regionPoints = 0, droppedRegionPoints = 0;
   double seconds = 0;
   std::vector<std::string> notes;  // what was detected or skipped, for the report
@@ -134,6 +153,15 @@ struct Segmentation {
 Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
                          const FeatureSet& features, const SegmentationOptions& options = {},
                          Progress* progress = nullptr);
+
+// The same with `underBody`, the body fitted under the clothes (the shape-and-pose fit of §4,
+// ScanFit::fittedInScanFrame(), not the full fit that follows the clothes; any mesh of the body
+// surface will do): the garment boundaries also follow the steps of the scan's offset from it
+// where colour cannot tell the sides apart, and a region lying off the body by more than
+// options.geometry.garmentOffset is clothed whatever its colour (segment/body_offset.h).
+Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
+                         const TriMesh& underBody, const FeatureSet& features,
+                         const SegmentationOptions& options = {}, Progress* progress = nullptr);
 
 // The paper's Fig. 14 baseline: every scan vertex labelled by a multi-label graph cut
 // (segment/mrf.h) with the same colour model as data term and the projected labelled regions as

@@ -125,6 +125,8 @@ Appearance::Appearance(const Outfit& outfit, const AppearanceOptions& options)
     : outfit_(outfit), options_(options) {
   if (!std::isfinite(options.shading) || options.shading < 0 || options.shading > 0.5)
     throw InputError("appearance: shading amplitude must be in [0, 0.5]");
+  if (!std::isfinite(options.keyLight) || options.keyLight < 0 || options.keyLight > 0.8)
+    throw InputError("appearance: key light strength must be in [0, 0.8]");
   if (!std::isfinite(options.shadingScale) || options.shadingScale <= 0)
     throw InputError("appearance: shading scale must be a positive length in metres");
   for (std::size_t i = 0; i < outfit.garments.size(); ++i) {
@@ -189,7 +191,11 @@ Eigen::Vector3d Appearance::colour(int layer, Label label, const Eigen::Vector3d
   // surface faces the floor (studio lights from above).
   const double noise = fractalNoise(rest / options_.shadingScale, subSeed(options_.seed, 5), 2);
   const double down = std::max(0.0, -normal.y());
-  const double factor = (1 + options_.shading * (2 * noise - 1)) * (1 - 0.08 * down);
+  double factor = (1 + options_.shading * (2 * noise - 1)) * (1 - 0.08 * down);
+  if (options_.keyLight > 0) {
+    const Eigen::Vector3d light = Eigen::Vector3d(0.5, 0.7, 0.6).normalized();
+    factor *= 1 + options_.keyLight * (2 * std::max(0.0, normal.dot(light)) - 1);
+  }
   return clamp01(c * factor);
 }
 

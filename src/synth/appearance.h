@@ -44,6 +44,10 @@ struct AppearanceOptions {
   double shading = 0.06;       // ± amplitude of multiplicative low-frequency shading noise
   double shadingScale = 0.35;  // metres, feature size of the shading noise
   bool gapColours = false;     // gap faces: random blotches of nearby colours (else the inside)
+  // Baked light (a scan's texture keeps the studio's light): a key light from the front, above
+  // and to the person's left scales the colour by 1 + keyLight·(2·max(0, n·l) − 1), from
+  // 1 − keyLight on the far side to 1 + keyLight facing it (clamped to sRGB). 0: none.
+  double keyLight = 0;
   std::uint64_t seed = 1;
 };
 

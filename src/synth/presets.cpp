@@ -122,6 +122,26 @@ std::vector<Preset> buildCatalogue() {
         0.35);
     c.push_back(p);
   }
+  // Bare skin against a garment of the wearer's own skin tone (issue 18): colour cannot tell
+  // them apart, the garment's ease over the body can.
+  c.push_back(make("shirtless", "bare torso, dark trousers and shoes: no upper garment", 20000,
+                   SynthPose::APose, {garment(G::Trousers, kNavy), shoes()}, 0.4));
+  c.push_back(make("skin_tone_top", "t-shirt of the wearer's own skin tone, black trousers", 20000,
+                   SynthPose::APose,
+                   {garment(G::TShirt, s2p::skinTone(0.4)), garment(G::Trousers, kBlack), shoes()},
+                   0.4));
+  {
+    // A sweatshirt and chinos under a baked key light (a textured scan keeps the studio's
+    // light): the lit front of the top is lighter than its far side by more than the top and
+    // the trousers differ in hue.
+    Preset p = make("baked_light", "sweatshirt and chinos with a baked key light (±35 %)", 20000,
+                    SynthPose::APose,
+                    {garment(G::LongSleeveShirt, V3(0.55, 0.58, 0.66)),
+                     garment(G::Trousers, kKhaki), shoes()},
+                    0.3);
+    p.options.keyLight = 0.35;
+    c.push_back(p);
+  }
   c.push_back(make("bare_feet", "t-shirt and shorts with bare feet (no shoes), dark skin", 10000,
                    SynthPose::APose, {garment(G::TShirt, kYellow), garment(G::Shorts, kDenim)},
                    0.9));

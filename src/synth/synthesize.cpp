@@ -161,6 +161,7 @@ json synthOptionsToJson(const SynthOptions& o) {
             {"hole_radius", g.holeRadius}}},
           {"gap_colours", o.gapColours},
           {"shading", o.shading},
+          {"key_light", o.keyLight},
           {"yaw_degrees", o.yawDegrees},
           {"seed", o.seed}};
 }
@@ -213,6 +214,7 @@ SynthOptions synthOptionsFromJson(const json& j) {
     }
     o.gapColours = j.value("gap_colours", o.gapColours);
     o.shading = j.value("shading", o.shading);
+    o.keyLight = j.value("key_light", o.keyLight);
     o.yawDegrees = j.value("yaw_degrees", o.yawDegrees);
     o.seed = j.value("seed", o.seed);
   } catch (const json::exception& e) {
@@ -248,6 +250,8 @@ void validate(const SynthOptions& o) {
   if (!std::isfinite(o.yawDegrees)) throw InputError("synth: yaw must be a finite angle");
   if (!std::isfinite(o.shading) || o.shading < 0 || o.shading > 0.5)
     throw InputError("synth: shading must be in [0, 0.5]");
+  if (!std::isfinite(o.keyLight) || o.keyLight < 0 || o.keyLight > 0.8)
+    throw InputError("synth: key light strength must be in [0, 0.8]");
   if (!o.outfit.skin.allFinite() || !o.outfit.hair.allFinite())
     throw InputError("synth: skin and hair colours must be finite sRGB");
 }
@@ -301,6 +305,7 @@ SynthScan assembleSynthScan(const BodyModel& model, const BodyParams& params,
   SynthScan out;
   out.appearance = Appearance(options.outfit, {.shading = options.shading,
                                                .gapColours = options.gapColours,
+                                               .keyLight = options.keyLight,
                                                .seed = subSeed(options.seed, 2)});
   out.scan.colour = out.appearance.colours(surface.vertexLayer, surface.vertexLabel,
                                            surface.restPosition, vertexNormals(mesh));

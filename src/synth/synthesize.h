@@ -47,6 +47,7 @@ struct SynthOptions {
   GeometryOptions geometry;
   bool gapColours = false;  // gap faces get meaningless blotches (§5.2) instead of the inside
   double shading = 0.06;    // ± multiplicative shading noise
+  double keyLight = 0;      // baked key light strength (AppearanceOptions::keyLight), 0: none
   double yawDegrees = 0;    // scan and truth rotated about +Y (orientation tests)
   std::uint64_t seed = 1;
 };
