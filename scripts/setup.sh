@@ -24,6 +24,9 @@ PACKAGES=(
   libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   zlib1g-dev libpng-dev
+  # GarmentCode's loader (../shared/validators/gc_check.py), run on pattern.json by the tests
+  python3 python3-numpy python3-scipy python3-svgwrite python3-cairosvg python3-matplotlib
+  python3-yaml python3-psutil
 )
 
 missing=()

@@ -76,7 +76,7 @@ TEST(BodySdf, MatchesTheSphereDistanceAndNormal) {
 
 // === Known answers
 
-TEST(Drape, TwoRectanglesSewnAroundACylinderCloseIntoATubeOfTheirWidth) {
+TEST(Drape, TwoRectanglesSewnAroundACylinderCloseIntoATubeOfTheirWidth_Slow) {
   const double width = 0.3, edge = 0.01;
   const DrapeInput in = makeTubeGarment(width, 0.2, edge, 0.12, 0.06);
   DrapeOptions o;
@@ -99,7 +99,7 @@ TEST(Drape, TwoRectanglesSewnAroundACylinderCloseIntoATubeOfTheirWidth) {
             << r.seconds << " s\n";
 }
 
-TEST(Drape, ASheetDroppedOnASphereRestsOnItWithoutPenetration) {
+TEST(Drape, ASheetDroppedOnASphereRestsOnItWithoutPenetration_Slow) {
   const double y = kSphereRadius + 0.03;
   const DrapeInput in = sheetOnSphere(y);
   DrapeOptions o;
@@ -126,7 +126,7 @@ TEST(Drape, ASheetDroppedOnASphereRestsOnItWithoutPenetration) {
             << " mm, centre at " << r.garment.V(centre, 1) << ", " << r.seconds << " s\n";
 }
 
-TEST(Drape, SewnSeamPartnersEndWithinAMillimetreAfterDrapingUnderGravity) {
+TEST(Drape, SewnSeamPartnersEndWithinAMillimetreAfterDrapingUnderGravity_Slow) {
   const DrapeInput in = makeShirtGarment(0.02);
   const DrapeResult r = runDrape(in, {});
   ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
@@ -159,7 +159,7 @@ TEST(Drape, DISABLED_TwoStackedSheetsStayStacked) {
 
 // === Determinism
 
-TEST(Drape, TwoRunsAreIdenticalWhateverTheThreadCount) {
+TEST(Drape, TwoRunsAreIdenticalWhateverTheThreadCount_Slow) {
   const DrapeInput in = makeTubeGarment(0.3, 0.2, 0.015, 0.12, 0.06);
   DrapeOptions o;
   o.drapeMaxSteps = 60;
