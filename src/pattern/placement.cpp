@@ -167,12 +167,15 @@ Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
     Eigen::MatrixX3d flat3(n, 3);
     for (int v = 0; v < n; ++v)
       flat3.row(v) = (pp.R * Eigen::Vector3d(P2(v, 0), P2(v, 1), 0.0) + t).transpose();
-    // Out along the normal until every vertex clears the body.
+    // Out along the normal until every vertex clears the body. A signed distance changes by at
+    // most d when a point moves by d, so a shortfall of δ needs at least δ more: the search
+    // jumps by max(step, δ) and takes a handful of queries.
     double s = 0;
-    for (; s <= options.maxOffset; s += options.step) {
+    while (true) {
       pp.V = flat3.rowwise() + (s * normal).transpose();
       pp.clearance = leastClearance(bodyQuery, pp.V);
-      if (pp.clearance >= options.clearance) break;
+      if (pp.clearance >= options.clearance || s > options.maxOffset) break;
+      s += std::max(options.step, options.clearance - pp.clearance);
     }
     if (pp.clearance < options.clearance)
       out.warnings.push_back(fmt::format(

@@ -40,7 +40,7 @@ struct PlacementInput {
 
 struct PlacementOptions {
   double clearance = 0.02;  // m: least distance of every placed vertex from the rest body
-  double step = 0.005;      // m: the outward move is searched in steps of this
+  double step = 0.005;      // m: the least outward move per search step
   double maxOffset = 0.6;   // m: a panel that does not clear the body by then is reported
 };
 
