@@ -68,8 +68,8 @@ std::vector<View> parseViews(const std::string& list, const std::string& option 
 Image renderScan(const Scan& scan, const std::vector<View>& views, int heightPx);
 MeshAttributes colourAttributes(const Scan& scan);
 void writeJson(const std::filesystem::path& path, const nlohmann::json& j);
-// Creates `dir` and checks that a file can be written in it, before any work: IoError naming
-// the folder otherwise.
+// Checks, before any work and without creating anything, that `dir` can be written (or created
+// and written): IoError naming the folder otherwise.
 void requireWritableFolder(const std::filesystem::path& dir);
 // --seam-allowance MM and --paper a4|letter for the pattern files.
 void addPrintOptions(CLI::App* cmd, PrintOptions& print);

@@ -256,17 +256,23 @@ std::vector<fs::path> suiteTruths(const fs::path& suiteDir, const std::string& o
 }
 
 void requireWritableFolder(const fs::path& dir) {
+  // Nothing is created: the folder itself, or the nearest folder above it that exists, must
+  // take a file (a probe written and removed), so that bad input later leaves no folder behind.
   std::error_code ec;
-  fs::create_directories(dir, ec);
-  const fs::path probe = dir / ".scan2pattern_write_test";
-  {
+  fs::path existing = fs::absolute(dir, ec);
+  while (!existing.empty() && !fs::exists(existing, ec) && existing != existing.parent_path())
+    existing = existing.parent_path();
+  const fs::path probe = existing / ".scan2pattern_write_test";
+  bool ok = fs::is_directory(existing, ec);
+  if (ok) {
     std::ofstream f(probe);
-    if (ec || !f || !(f << "x") || !f.flush())
-      throw IoError(fmt::format("cannot write into the output folder {}: choose another with -o "
-                                "or make it writable",
-                                dir.string()));
+    ok = f && (f << "x") && f.flush();
   }
   fs::remove(probe, ec);
+  if (!ok)
+    throw IoError(fmt::format("cannot write into the output folder {}: choose another with -o "
+                              "or make it writable",
+                              dir.string()));
 }
 
 void addPrintOptions(CLI::App* cmd, PrintOptions& print) {
