@@ -29,5 +29,6 @@ ctest --preset release
 if [ "$sanitize" = 1 ]; then
   cmake --preset asan >/dev/null
   cmake --build --preset asan
-  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --preset asan
+  ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions="$PWD/scripts/lsan.supp" \
+    UBSAN_OPTIONS=print_stacktrace=1 ctest --preset asan
 fi
