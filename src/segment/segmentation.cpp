@@ -597,8 +597,12 @@ class Segmenter {
     out.skinDeltaE = skin;
     out.upperSkinLike = skinLikeFraction(kUpper, skin);
     out.lowerSkinLike = skinLikeFraction(kLower, skin);
-    bool noUpper = out.upperSkinDeltaE < skin && out.upperSkinLike > 0.5;
-    bool noLower = out.lowerSkinDeltaE < skin && out.lowerSkinLike > 0.5;
+    // Most of the region's points must be this person's skin; its mean colour need only be
+    // skin-like by the population bound (sameColourDeltaE): a bare leg's region also holds a
+    // minority of sock, shoe or waistband points that pull the mean by more than the spread of
+    // the face and hands, and the fraction is the test that does not move with them.
+    bool noUpper = out.upperSkinDeltaE < same && out.upperSkinLike > 0.5;
+    bool noLower = out.lowerSkinDeltaE < same && out.lowerSkinLike > 0.5;
     out.geometricCues = hasGeometry();
     out.upperOffset = regionOffset_[kUpper];
     out.lowerOffset = regionOffset_[kLower];
