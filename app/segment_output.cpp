@@ -95,7 +95,7 @@ PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& 
                     !jsonDir.empty();
   const fs::path fullPath = full ? jsonDir / bodyJson["full_mesh"].get<std::string>() : fs::path();
   if (full && fs::exists(fullPath)) {
-    out.body.V = readFullMesh(fullPath, b.model);
+    out.body.V = readFullMesh(fullPath, *out.model);
   } else {
     if (full)
       progress.message(fmt::format("{} is missing: the features are carried by the posed body",
