@@ -1,11 +1,10 @@
 #include "pattern/flat_pattern.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <map>
-
-#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "pattern/uv_locator.h"
@@ -34,8 +33,8 @@ Eigen::MatrixX2d rowsOf(const Eigen::MatrixX2d& uv, const std::vector<int>& ids)
 void flatten(const Panel& panel, const BodyFrame& frame, const FlatPatternOptions& options,
              FlatPanel& out) {
   out.grain = panelGrain(panel, frame);
-  out.flattening = flattenPanel(panel.mesh, out.grain, panel.garment + " " + panel.name,
-                                options.flatten);
+  out.flattening =
+      flattenPanel(panel.mesh, out.grain, panel.garment + " " + panel.name, options.flatten);
   out.uv = out.flattening.uv;
 }
 
@@ -104,10 +103,62 @@ void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
   });
   for (size_t p = 0; p < failures.size(); ++p)
     if (!failures[p].empty())
-      r.warnings.push_back(fmt::format("panel '{}' of {}: seams not trued ({}); its stitches "
-                                       "keep their flattened lengths",
-                                       panels.panels[p].name, panels.panels[p].garment,
-                                       failures[p]));
+      r.warnings.push_back(
+          fmt::format("panel '{}' of {}: seams not trued ({}); its stitches "
+                      "keep their flattened lengths",
+                      panels.panels[p].name, panels.panels[p].garment, failures[p]));
+}
+
+// The outline as the remesher will see it: each edge's chain resampled at its count, the last
+// sample of each edge left to the next edge's first.
+bool outlineSelfIntersects(const FlatPanel& fp, const std::vector<int>& counts) {
+  std::vector<Eigen::Vector2d> pts;
+  for (size_t e = 0; e < fp.edges.size(); ++e) {
+    const Eigen::MatrixX2d s = resampleChain(fp.edges[e].chain, counts[e]);
+    for (int i = 0; i + 1 < s.rows(); ++i) pts.push_back(s.row(i).transpose());
+  }
+  Eigen::MatrixX2d polygon(static_cast<int>(pts.size()), 2);
+  std::vector<int> loop(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) {
+    polygon.row(static_cast<int>(i)) = pts[i].transpose();
+    loop[i] = static_cast<int>(i);
+  }
+  return polygonSelfIntersects(polygon, loop);
+}
+
+// `iterations` steps of uniform Laplacian smoothing (λ = ½) of an open polyline, ends fixed:
+// curve-shortening, under which a fold or a frill's loop shrinks and the polyline tends to the
+// straight line between its corners.
+Eigen::MatrixX2d smoothPolyline(Eigen::MatrixX2d p, int iterations) {
+  for (int it = 0; it < iterations; ++it) {
+    Eigen::MatrixX2d q = p;
+    for (int i = 1; i + 1 < p.rows(); ++i)
+      q.row(i) = 0.5 * p.row(i) + 0.25 * (p.row(i - 1) + p.row(i + 1));
+    p = std::move(q);
+  }
+  return p;
+}
+
+// A scan's hem or cuff with frills, lumps where its shell folded, or a scrap of skin left on it
+// flattens into an outline that folds over itself, which no mesher can fill. Only openings are
+// touched (a seam's length is its partner's): each opening is smoothed along the flattened
+// boundary, more each round, and fitted again until the outline is simple. Returns the rounds'
+// smoothing steps used (0: the outline was simple), or −1 when even the most smoothing left it
+// crossing itself (the remesher then says so).
+int untangleOpenings(const Panel& panel, const std::vector<int>& counts,
+                     const FlatPatternOptions& options, FlatPanel& fp) {
+  if (!outlineSelfIntersects(fp, counts)) return 0;
+  for (int iterations : {4, 16, 64, 256, 1024}) {
+    for (size_t e = 0; e < panel.edges.size(); ++e) {
+      if (!panel.edges[e].opening) continue;
+      const Eigen::MatrixX2d poly = rowsOf(fp.uv, panel.edges[e].vertices);
+      FlatEdge& fe = fp.edges[e];
+      fe.chain = fitBezierChain(smoothPolyline(poly, iterations), options.bezier);
+      fe.fitError = maxDeviation(fe.chain, poly);
+    }
+    if (!outlineSelfIntersects(fp, counts)) return iterations;
+  }
+  return -1;
 }
 
 void remesh(const Panel& panel, const TriMesh& scan, const std::vector<int>& counts,
@@ -116,7 +167,8 @@ void remesh(const Panel& panel, const TriMesh& scan, const std::vector<int>& cou
   for (size_t e = 0; e < out.edges.size(); ++e)
     samples.push_back(resampleChain(out.edges[e].chain, counts[e]));
   out.remeshed = remeshPanel(samples, panel.garment + " " + panel.name, options.remesh);
-  for (size_t e = 0; e < out.edges.size(); ++e) out.edges[e].vertices = out.remeshed.edgeVertices[e];
+  for (size_t e = 0; e < out.edges.size(); ++e)
+    out.edges[e].vertices = out.remeshed.edgeVertices[e];
   const UvLocator locator(out.uv, panel.mesh.F);
   out.location = locator.locate(out.remeshed.V);
   out.position = interpolateAt(out.location, panel.mesh.F, panel.mesh.V);
@@ -127,11 +179,10 @@ void remesh(const Panel& panel, const TriMesh& scan, const std::vector<int>& cou
     const int f = panel.faceOrigin[out.location[v].face];
     out.scanFace[v] = f;
     const Eigen::Vector3d p = out.position.row(v).transpose();
-    out.scanBary.row(v) =
-        closestPointBarycentric(p, scan.V.row(scan.F(f, 0)).transpose(),
-                                scan.V.row(scan.F(f, 1)).transpose(),
-                                scan.V.row(scan.F(f, 2)).transpose())
-            .transpose();
+    out.scanBary.row(v) = closestPointBarycentric(p, scan.V.row(scan.F(f, 0)).transpose(),
+                                                  scan.V.row(scan.F(f, 1)).transpose(),
+                                                  scan.V.row(scan.F(f, 2)).transpose())
+                              .transpose();
   }
 }
 
@@ -199,6 +250,17 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
     if (!fp.error.empty()) continue;
     const auto tp = std::chrono::steady_clock::now();
     try {
+      const int rounds = untangleOpenings(panels.panels[p], counts[p], options, fp);
+      if (rounds > 0) {
+        double worst = 0;
+        for (size_t e = 0; e < fp.edges.size(); ++e)
+          if (panels.panels[p].edges[e].opening) worst = std::max(worst, fp.edges[e].fitError);
+        r.warnings.push_back(fmt::format(
+            "panel '{}' of {}: its flattened openings folded over themselves (frills or lumps "
+            "of the scan); they were smoothed ({} steps) and now lie within {:.1f} mm of the "
+            "scan's edge",
+            panels.panels[p].name, panels.panels[p].garment, rounds, 1000 * worst));
+      }
       remesh(panels.panels[p], scan, counts[p], options, fp);
     } catch (const Error& e) {
       fp.error = e.what();

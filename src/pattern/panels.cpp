@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <exception>
 #include <cmath>
+#include <exception>
 #include <functional>
 #include <map>
 #include <numeric>
@@ -41,10 +41,10 @@ struct UnionFind {
 // The garment with every kept seam's isoline inserted (one mesh, faces on one side of each).
 struct SeamedGarment {
   TriMesh mesh;
-  Eigen::VectorXi garmentFace;              // #F: the garment face each face lies in
-  std::vector<Eigen::VectorXd> fields;      // per kept seam, #V
-  std::vector<Eigen::VectorXi> sides;       // per kept seam, #F: 1 on its positive side
-  std::vector<const SeamLine*> seams;       // the kept seams, in order
+  Eigen::VectorXi garmentFace;          // #F: the garment face each face lies in
+  std::vector<Eigen::VectorXd> fields;  // per kept seam, #V
+  std::vector<Eigen::VectorXi> sides;   // per kept seam, #F: 1 on its positive side
+  std::vector<const SeamLine*> seams;   // the kept seams, in order
 };
 
 SeamedGarment insertSeams(const TriMesh& garment, const std::vector<SeamLine>& seams) {
@@ -125,7 +125,8 @@ PanelMesh extractPanel(const TriMesh& m, const MeshTopology& topo, const std::ve
 
 // Fraction of 8 horizontal camera directions from which each vertex is seen (its normal faces
 // the direction and a ray from it meets neither the garment nor the body).
-Eigen::VectorXd horizontalVisibility(const TriMesh& m, const TriMesh& body, const BodyFrame& frame) {
+Eigen::VectorXd horizontalVisibility(const TriMesh& m, const TriMesh& body,
+                                     const BodyFrame& frame) {
   const MeshQuery garmentQuery(m), bodyQuery(body);
   const Eigen::MatrixX3d N = vertexNormals(m);
   const double eps = 1e-3 * std::max(meanEdgeLength(m), 1e-4);
@@ -213,7 +214,11 @@ class GarmentPanelizer {
  public:
   GarmentPanelizer(const PanelsInput& in, const PanelsInput::Garment& garment, int garmentIndex,
                    const BodyFrame& frame, const PanelOptions& options, PanelsResult& result)
-      : in_(in), garment_(garment), index_(garmentIndex), frame_(frame), options_(options),
+      : in_(in),
+        garment_(garment),
+        index_(garmentIndex),
+        frame_(frame),
+        options_(options),
         result_(result) {}
 
   void run(std::optional<std::vector<SeamLine>> seams = std::nullopt) {
@@ -222,9 +227,10 @@ class GarmentPanelizer {
     gp.kind = garment_.kind;
     const TriMesh& mesh = garment_.mesh;
     if (mesh.numFaces() == 0)
-      throw InputError(fmt::format("pattern: garment '{}' has no faces; the segmentation found "
-                                   "nothing of it (check segment/)",
-                                   garment_.name));
+      throw InputError(
+          fmt::format("pattern: garment '{}' has no faces; the segmentation found "
+                      "nothing of it (check segment/)",
+                      garment_.name));
     validateMesh(mesh, fmt::format("garment '{}'", garment_.name));
     if (garment_.faceOrigin.size() != mesh.numFaces())
       throw InputError(fmt::format("pattern: garment '{}' has {} faces but {} scan-face entries",
@@ -244,9 +250,10 @@ class GarmentPanelizer {
       if (!s.kept)
         gp.notes.push_back(fmt::format("seam '{}' removed: {}", s.name, s.removedWhy));
       else if (s.phi.size() != mesh.numVertices())
-        throw InputError(fmt::format("pattern: seam '{}' of garment '{}' has {} values for {} "
-                                     "vertices",
-                                     s.name, garment_.name, s.phi.size(), mesh.numVertices()));
+        throw InputError(
+            fmt::format("pattern: seam '{}' of garment '{}' has {} values for {} "
+                        "vertices",
+                        s.name, garment_.name, s.phi.size(), mesh.numVertices()));
     seamed_ = insertSeams(mesh, gp.seams);
     topo_ = std::make_unique<MeshTopology>(seamed_.mesh.F, seamed_.mesh.numVertices());
     if (seamed_.seams.empty()) {
@@ -318,8 +325,7 @@ class GarmentPanelizer {
       for (int e = 0; e < topo_->numEdges(); ++e) {
         const std::vector<int> ef = topo_->edgeFaces(e);
         if (ef.size() != 2 || piece_[ef[0]] == piece_[ef[1]]) continue;
-        const double len =
-            (m.V.row(topo_->edges()(e, 0)) - m.V.row(topo_->edges()(e, 1))).norm();
+        const double len = (m.V.row(topo_->edges()(e, 0)) - m.V.row(topo_->edges()(e, 1))).norm();
         border[piece_[ef[0]]][piece_[ef[1]]] += len;
         border[piece_[ef[1]]][piece_[ef[0]]] += len;
       }
@@ -329,8 +335,9 @@ class GarmentPanelizer {
             (smallest < 0 || pa[p] < pa[smallest]))
           smallest = p;
       if (smallest < 0) break;
-      const auto best = std::max_element(border[smallest].begin(), border[smallest].end(),
-                                         [](const auto& a, const auto& b) { return a.second < b.second; });
+      const auto best =
+          std::max_element(border[smallest].begin(), border[smallest].end(),
+                           [](const auto& a, const auto& b) { return a.second < b.second; });
       for (int f = 0; f < nF; ++f)
         if (piece_[f] == smallest) piece_[f] = best->first;
       ++merged_;
@@ -383,9 +390,11 @@ class GarmentPanelizer {
       for (int e : chainEdges) uf.join(topo_->edges()(e, 0), topo_->edges()(e, 1));
       std::map<int, std::pair<double, int>> score;  // chain root → (distance sum, count)
       for (int e : chainEdges) {
-        const Vec3 mid = 0.5 * (m.V.row(topo_->edges()(e, 0)) + m.V.row(topo_->edges()(e, 1))).transpose();
+        const Vec3 mid =
+            0.5 * (m.V.row(topo_->edges()(e, 0)) + m.V.row(topo_->edges()(e, 1))).transpose();
         double best = std::numeric_limits<double>::infinity();
-        for (int i = 0; i < prior.rows(); ++i) best = std::min(best, (prior.row(i).transpose() - mid).norm());
+        for (int i = 0; i < prior.rows(); ++i)
+          best = std::min(best, (prior.row(i).transpose() - mid).norm());
         auto& s = score[uf.find(topo_->edges()(e, 0))];
         s.first += best;
         ++s.second;
@@ -421,9 +430,9 @@ class GarmentPanelizer {
       panel.garmentIndex = index_;
       panel.name = panelName(static_cast<int>(p));
       if (int n = used[panel.name]++; n > 0) {
-        result_.warnings.push_back(fmt::format(
-            "garment '{}': a second piece named '{}' (the seams left it apart)", garment_.name,
-            panel.name));
+        result_.warnings.push_back(
+            fmt::format("garment '{}': a second piece named '{}' (the seams left it apart)",
+                        garment_.name, panel.name));
         panel.name += fmt::format("_{}", n + 1);
       }
       PanelMesh pm = extractPanel(m, *topo_, panelFaces_[p], piece_, static_cast<int>(p), cut_);
@@ -457,9 +466,10 @@ class GarmentPanelizer {
         pm = extractPanel(m, *topo_, panelFaces_[p], piece_, static_cast<int>(p), cut_);
       }
       if (panel.cutOpen)
-        gp.notes.push_back(fmt::format("panel '{}' was not a disk: cut open along the cheapest "
-                                       "path between its openings on its least visible side",
-                                       panel.name));
+        gp.notes.push_back(
+            fmt::format("panel '{}' was not a disk: cut open along the cheapest "
+                        "path between its openings on its least visible side",
+                        panel.name));
       panel.mesh = pm.mesh;
       panel.faceOrigin.resize(pm.mesh.numFaces());
       for (int f = 0; f < pm.mesh.numFaces(); ++f)
@@ -470,9 +480,10 @@ class GarmentPanelizer {
       result_.panels.push_back(std::move(panel));
     }
     if (merged_ > 0)
-      gp.notes.push_back(fmt::format("{} sliver(s) below {:.0f} % of the garment merged into a "
-                                     "neighbouring panel",
-                                     merged_, 100 * options_.minPanelFraction));
+      gp.notes.push_back(
+          fmt::format("{} sliver(s) below {:.0f} % of the garment merged into a "
+                      "neighbouring panel",
+                      merged_, 100 * options_.minPanelFraction));
   }
 
   // What lies across a boundary half-edge of a panel.
@@ -505,8 +516,10 @@ class GarmentPanelizer {
       return side + "_underarm";
     if (best < 0 || bestValue > 1e-6) return "cut";
     switch (seamed_.seams[best]->kind) {
-      case SeamKind::Armhole: return side + "_armhole";
-      case SeamKind::LeftRight: return panelKey_[panel] % 2 == 1 ? "center_front" : "center_back";
+      case SeamKind::Armhole:
+        return side + "_armhole";
+      case SeamKind::LeftRight:
+        return panelKey_[panel] % 2 == 1 ? "center_front" : "center_back";
       case SeamKind::FrontBack: {
         using C = Canonical;
         const double shoulderH = 0.5 * (frame_.height(frame_.at(C::LeftShoulder)) +
@@ -600,8 +613,9 @@ class GarmentPanelizer {
         if (a.panel >= 0) {
           edge.opening = false;
           edge.partnerPanel = first + a.panel;
-          edge.name = fallbackCut_[gEdge[s]] ? "cut"
-                                             : seamEdgeName(static_cast<int>(p), a.panel, globalVerts);
+          edge.name = fallbackCut_[gEdge[s]]
+                          ? "cut"
+                          : seamEdgeName(static_cast<int>(p), a.panel, globalVerts);
           pending.push_back({first + static_cast<int>(p), edgeIndex, {gEdge[s], gOther[s]}});
         } else {
           edge.opening = true;
@@ -623,7 +637,8 @@ class GarmentPanelizer {
       case GarmentKind::Upper: {
         double cuffT = -1;
         int sleeves = 0;
-        for (int p : gp.panels) sleeves += result_.panels[p].name.find("sleeve") != std::string::npos;
+        for (int p : gp.panels)
+          sleeves += result_.panels[p].name.find("sleeve") != std::string::npos;
         for (const Opening& o : gp.openings)
           if (o.name.find("cuff") != std::string::npos) cuffT = std::max(cuffT, o.t);
         if (sleeves == 0) return "sleeveless_top";
@@ -636,7 +651,8 @@ class GarmentPanelizer {
           if (o.name.find("leg_opening") != std::string::npos) legT = std::max(legT, o.t);
         return legT > 0.6 ? "trousers" : "shorts";
       }
-      case GarmentKind::OnePiece: return crotch ? "jumpsuit" : "dress";
+      case GarmentKind::OnePiece:
+        return crotch ? "jumpsuit" : "dress";
     }
     return "?";
   }
@@ -707,7 +723,7 @@ int dropStrayPieces(PanelsInput::Garment& g, double minFraction) {
   return dropped;
 }
 
-int fillScanHoles(PanelsInput::Garment& g, const BodyFrame& frame) {
+int fillScanHoles(PanelsInput::Garment& g, const BodyFrame& frame, double minOpeningFraction) {
   if (g.mesh.numFaces() == 0) return 0;
   const MeshTopology topo(g.mesh.F, g.mesh.numVertices());
   if (!topo.manifoldness().isManifold()) return 0;  // refused with its own error later
@@ -718,12 +734,17 @@ int fillScanHoles(PanelsInput::Garment& g, const BodyFrame& frame) {
     auto [it, added] = longest.try_emplace(openings[i].name, static_cast<int>(i));
     if (openings[i].length > openings[it->second].length) it->second = static_cast<int>(i);
   }
+  const double stature = frame.height(frame.at(Canonical::HeadTop)) -
+                         0.5 * (frame.height(frame.at(Canonical::LeftAnkle)) +
+                                frame.height(frame.at(Canonical::RightAnkle)));
+  const double minOpening = minOpeningFraction * stature;
   std::vector<Eigen::RowVector3d> newV;
   std::vector<Eigen::RowVector3i> newF;
   std::vector<int> newOrigin;
   int filled = 0;
   for (size_t i = 0; i < openings.size(); ++i) {
-    if (longest[openings[i].name] == static_cast<int>(i)) continue;
+    if (longest[openings[i].name] == static_cast<int>(i) && openings[i].length >= minOpening)
+      continue;
     const std::vector<int>& loop = openings[i].vertices;
     if (loop.size() < 3) continue;
     const int c = g.mesh.numVertices() + static_cast<int>(newV.size());
@@ -764,14 +785,16 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
     // Closed bubbles and crumbs labelled as the garment are no cloth to cut.
     const int dropped = dropStrayPieces(garments[g], options.minPanelFraction);
     if (dropped > 0)
-      result.warnings.push_back(fmt::format("garment '{}': {} closed or tiny piece(s) left out "
-                                            "(no cloth to cut)",
-                                            garments[g].name, dropped));
-    const int filled = fillScanHoles(garments[g], frame);
+      result.warnings.push_back(
+          fmt::format("garment '{}': {} closed or tiny piece(s) left out "
+                      "(no cloth to cut)",
+                      garments[g].name, dropped));
+    const int filled = fillScanHoles(garments[g], frame, options.minOpeningFraction);
     if (filled > 0)
-      result.warnings.push_back(fmt::format("garment '{}': {} hole(s) of the scan filled (boundary "
-                                            "loops that are not its openings)",
-                                            garments[g].name, filled));
+      result.warnings.push_back(
+          fmt::format("garment '{}': {} hole(s) of the scan filled (boundary "
+                      "loops that are not its openings)",
+                      garments[g].name, filled));
   }
   // A garment that makes no pattern does not cost the others theirs: its error becomes a
   // warning, and only when no garment makes one is the error raised.

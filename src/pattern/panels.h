@@ -38,9 +38,9 @@ struct Panel {
   std::string name;     // "front", "back", "left_sleeve", "left_front", ...
   std::string garment;  // the garment's name ("upper", "lower", "onepiece")
   int garmentIndex = -1;
-  TriMesh mesh;                // 3D, the garment's frame; a topological disk
-  Eigen::VectorXi faceOrigin;  // #F: the scan face each face lies in
-  std::vector<int> loop;       // the boundary loop (vertex ids), surface on its left
+  TriMesh mesh;                  // 3D, the garment's frame; a topological disk
+  Eigen::VectorXi faceOrigin;    // #F: the scan face each face lies in
+  std::vector<int> loop;         // the boundary loop (vertex ids), surface on its left
   std::vector<PanelEdge> edges;  // in loop order; edges[i].vertices.front() is corner i
   double area = 0;               // m²
   bool cutOpen = false;          // needed the fallback cut to become a disk
@@ -65,7 +65,7 @@ struct PanelsInput {
     Eigen::VectorXi faceOrigin;  // #F: scan face of each face
   };
   std::vector<Garment> garments;
-  TriMesh body;                // the posed fully fitted body, carrying `features`
+  TriMesh body;  // the posed fully fitted body, carrying `features`
   FeatureSet features;
   Eigen::MatrixX3d canonical;  // kNumCanonical×3, the posed body's canonical points
 };
@@ -78,6 +78,10 @@ struct PanelOptions {
   // Fallback cut: a path's cost per metre is 1 + visibilityWeight · (fraction of 8 horizontal
   // camera directions that see the surface there).
   double visibilityWeight = 4.0;
+  // A boundary loop shorter than this fraction of the body's head-top-to-ankle height (0.06:
+  // about 9 cm, half a wrist's girth) lets nothing through: it is a hole of the scan (a scrap of
+  // leg left on a skirt's hem, a gap between fused fingers), filled, never an opening.
+  double minOpeningFraction = 0.06;
 };
 
 struct PanelsResult {
@@ -99,10 +103,12 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options = {
 int dropStrayPieces(PanelsInput::Garment& garment, double minFraction);
 
 // Fills the garment's boundary loops that are not openings (holes of the scan: every loop but the
-// longest of each opening name) with a fan around the loop's centroid; the new faces take the
-// scan face of the face they border. Returns the number of holes filled. runPanels does this
-// first.
-int fillScanHoles(PanelsInput::Garment& garment, const BodyFrame& frame);
+// longest of each opening name, and every loop too short for a hand to pass, below
+// minOpeningFraction × the body's head-top-to-ankle height) with a fan around the loop's
+// centroid; the new faces take the scan face of the face they border. Returns the number of
+// holes filled. runPanels does this first.
+int fillScanHoles(PanelsInput::Garment& garment, const BodyFrame& frame,
+                  double minOpeningFraction = 0.06);
 
 // The second half of runPanels for garment `garment` of `input`, with its seam lines given (their
 // phi on the garment's vertices) instead of estimated from the body's features; appends to

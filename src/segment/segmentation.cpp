@@ -1,10 +1,11 @@
 #include "segment/segmentation.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fmt/format.h>
 #include <limits>
 #include <map>
 #include <optional>
@@ -24,19 +25,26 @@ namespace s2p {
 
 const char* toString(GarmentLayout layout) {
   switch (layout) {
-    case GarmentLayout::UpperLower: return "upper_lower";
-    case GarmentLayout::OnePiece: return "one_piece";
-    case GarmentLayout::UpperOnly: return "upper_only";
-    case GarmentLayout::LowerOnly: return "lower_only";
+    case GarmentLayout::UpperLower:
+      return "upper_lower";
+    case GarmentLayout::OnePiece:
+      return "one_piece";
+    case GarmentLayout::UpperOnly:
+      return "upper_only";
+    case GarmentLayout::LowerOnly:
+      return "lower_only";
   }
   return "invalid";
 }
 
 const char* toString(Occlusion occlusion) {
   switch (occlusion) {
-    case Occlusion::None: return "none";
-    case Occlusion::LowerOccluded: return "lower_occluded";
-    case Occlusion::UpperOccluded: return "upper_occluded";
+    case Occlusion::None:
+      return "none";
+    case Occlusion::LowerOccluded:
+      return "lower_occluded";
+    case Occlusion::UpperOccluded:
+      return "upper_occluded";
   }
   return "invalid";
 }
@@ -126,7 +134,7 @@ class LabelAreas {
   }
 
  private:
-  Eigen::MatrixXd area_;        // #F × kNumLabels
+  Eigen::MatrixXd area_;         // #F × kNumLabels
   Eigen::VectorXi vertexLabel_;  // #V, −1 until set
 };
 
@@ -165,7 +173,8 @@ ProjectedCurve projectCurve(const FeatureProjector& projector, const CurveFeatur
     const size_t need = s.closed ? 3 : 2;
     if (kept.size() < need || 2 * kept.size() < p.size()) {
       std::vector<double> gap;
-      for (size_t i = 0; i < p.size(); ++i) gap.push_back((s.anchors[i].position(body) - p[i].p).norm());
+      for (size_t i = 0; i < p.size(); ++i)
+        gap.push_back((s.anchors[i].position(body) - p[i].p).norm());
       std::nth_element(gap.begin(), gap.begin() + gap.size() / 2, gap.end());
       const double median = gap.empty() ? 0.0 : gap[gap.size() / 2];
       if (p.size() < need || median > missingDistance) {
@@ -293,9 +302,8 @@ std::vector<bool> gapVertices(const TriMesh& mesh, const Eigen::VectorXd& phiDn,
         !body.rayCast(mesh.V.row(v).transpose() + lead * n, -n, 0, lead + 2 * reach).has_value();
   }
   const MeshTopology topo(mesh.F, nV);
-  const VertexRegions regions = vertexRegions(topo, [&](int e) {
-    return candidate[topo.edges()(e, 0)] && candidate[topo.edges()(e, 1)];
-  });
+  const VertexRegions regions = vertexRegions(
+      topo, [&](int e) { return candidate[topo.edges()(e, 0)] && candidate[topo.edges()(e, 1)]; });
   std::vector<bool> wide(regions.count, false);
   for (int v = 0; v < nV; ++v)
     if (candidate[v] && !wide[regions.region[v]] &&
@@ -443,8 +451,8 @@ class Segmenter {
     Stage current = root_;
     // B(U|S): head and hands are cut away.
     if (hasUpper) {
-      BoundaryJob job{&upperSkin_, {kSkin, kUpper}, {true, false}, options_.gapFilling,
-                      upperLabel, Label::Skin};
+      BoundaryJob job{&upperSkin_,         {kSkin, kUpper}, {true, false},
+                      options_.gapFilling, upperLabel,      Label::Skin};
       job.deltaE = separation(kUpper, kSkin);
       auto [run, cut] = optimiseAndCut(current, job);
       out.boundaries.push_back(run.report);
@@ -455,8 +463,8 @@ class Segmenter {
     }
     // B(L|S): feet (shoes or skin) and bare legs are cut away.
     if (hasLower) {
-      BoundaryJob job{&lowerSkin_, {kSkin, kLower}, {true, false}, options_.gapFilling,
-                      lowerLabel, Label::Skin};
+      BoundaryJob job{&lowerSkin_,         {kSkin, kLower}, {true, false},
+                      options_.gapFilling, lowerLabel,      Label::Skin};
       job.deltaE = separation(kLower, kSkin);
       if (out.shoes) {
         job.regions.push_back(kFoot);
@@ -502,8 +510,8 @@ class Segmenter {
     for (const std::string& n : geometryNotes_) out.notes.push_back(n);
     for (const BoundaryReport& b : out.boundaries)
       if (!b.converged)
-        out.notes.push_back(fmt::format("boundary {} did not converge in {} iterations", b.name,
-                                        b.iterations));
+        out.notes.push_back(
+            fmt::format("boundary {} did not converge in {} iterations", b.name, b.iterations));
     out.seconds = secondsSince(t0);
     return out;
   }
@@ -551,7 +559,8 @@ class Segmenter {
     for (int i = 0; i < lab.rows(); ++i)
       d.push_back(deltaE2000(lab.row(i).transpose(), colours_.means[kSkin]));
     if (d.empty()) return options_.sameColourDeltaE;
-    const size_t k = std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
+    const size_t k =
+        std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
     std::nth_element(d.begin(), d.begin() + k, d.end());
     return std::clamp(options_.skinSpreadFactor * d[k], options_.minSkinDeltaE,
                       options_.sameColourDeltaE);
@@ -644,9 +653,9 @@ class Segmenter {
       tentativeOnePiece_ = true;
     } else if (out.upperLowerDeltaE < same) {
       out.layout = GarmentLayout::OnePiece;
-      out.notes.push_back(fmt::format(
-          "one-piece garment: upper and lower body colours within ΔE {:.1f} (§5.3)",
-          out.upperLowerDeltaE));
+      out.notes.push_back(
+          fmt::format("one-piece garment: upper and lower body colours within ΔE {:.1f} (§5.3)",
+                      out.upperLowerDeltaE));
     }
     if (!out.shoes) out.notes.push_back("no shoes: the feet have the colour of the skin");
   }
@@ -656,8 +665,8 @@ class Segmenter {
   // the shading of a leg puts its colour in the tails of both mixtures, where the broader one
   // wins whatever the hue.
   Eigen::VectorXi skinOrShoes(const Stage& feet, bool shoes) const {
-    Eigen::VectorXi out = Eigen::VectorXi::Constant(feet.mesh.numVertices(),
-                                                    static_cast<int>(Label::Skin));
+    Eigen::VectorXi out =
+        Eigen::VectorXi::Constant(feet.mesh.numVertices(), static_cast<int>(Label::Skin));
     if (!shoes) return out;
     auto nearest = [](const GaussianMixture& g, const Eigen::Vector3d& lab) {
       double best = std::numeric_limits<double>::infinity();
@@ -729,7 +738,8 @@ class Segmenter {
     for (const Anchor& a : curve.signs) positions.push_back(a.position);
     std::vector<int> kept;
     const std::vector<SurfacePoint> pts = locate(query, positions, tolerance_, &kept);
-    for (size_t i = 0; i < pts.size(); ++i) out.signs.push_back({pts[i], curve.signs[kept[i]].value});
+    for (size_t i = 0; i < pts.size(); ++i)
+      out.signs.push_back({pts[i], curve.signs[kept[i]].value});
     return out;
   }
 
@@ -787,9 +797,8 @@ class Segmenter {
     Eigen::VectorXd phiD =
         smoothedDisplacement(stage.mesh, models, job.positive, stage.lab, options_.colour);
     BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
-    const double w = stage.step.size() > 0 && job.geometry
-                         ? geometryWeight(job.deltaE, options_.geometry)
-                         : 0.0;
+    const double w =
+        stage.step.size() > 0 && job.geometry ? geometryWeight(job.deltaE, options_.geometry) : 0.0;
     if (job.keepInitial) {
       BoundaryResult& r = run.result;
       r.phi0 = r.phi = optimizer.initialImplicit(f.splines, f.signs);
@@ -802,8 +811,8 @@ class Segmenter {
       double high = job.highSide;
       if (high == 0) {
         constexpr double kBand = 0.25;  // m: the steps within a hand's span of the initial curve
-        const double o = stepOrientation(stage.mesh, stage.offset, stage.step, phi0, kBand,
-                                         options_.geometry);
+        const double o =
+            stepOrientation(stage.mesh, stage.offset, stage.step, phi0, kBand, options_.geometry);
         high = o < 0 ? -1.0 : 1.0;  // no step near the curve: the common case, a top worn over
       }
       phiD = combinedDisplacement(phiD, stepDisplacement(stage.step, high, options_.geometry), w);
@@ -823,8 +832,8 @@ class Segmenter {
     if (job.gapFilling && !job.keepInitial && !run.result.vanished) {
       // §5.2: a second pass with the normal displacement (Eq. 6), kept when it moves the
       // boundary (a gap was bridged).
-      const Eigen::VectorXd phiDn = normalDisplacement(stage.mesh, run.result.boundary,
-                                                       run.result.phi, 0.25 * height_);
+      const Eigen::VectorXd phiDn =
+          normalDisplacement(stage.mesh, run.result.boundary, run.result.phi, 0.25 * height_);
       // Eq. (6), except on gap-filling triangles, which push to the side that is not garment
       // (+1) whatever their colour: the paper calls their colours meaningless, and a cap patch in
       // the garment's colour (φ_d = −1) cancelled φ_dn and held the hem on the cap under a long
@@ -845,9 +854,9 @@ class Segmenter {
       }
     }
     if (!run.result.vanished) {
-      rep.islandsRemoved = removeIslands(stage.mesh, run.result.phi, options_.minRegionArea, f.signs);
-      if (rep.islandsRemoved > 0)
-        run.result.boundary = extractIsoline(stage.mesh, run.result.phi);
+      rep.islandsRemoved =
+          removeIslands(stage.mesh, run.result.phi, options_.minRegionArea, f.signs);
+      if (rep.islandsRemoved > 0) run.result.boundary = extractIsoline(stage.mesh, run.result.phi);
     }
     rep.converged = run.result.converged;
     rep.vanished = run.result.vanished;
@@ -900,8 +909,10 @@ class Segmenter {
       while (i < n) {
         std::vector<Vec3> run;
         const int l = label[(start + i) % n];
-        while (i < n && label[(start + i) % n] == l) run.push_back(c.points[(start + i++) % n].position);
-        if (i < n || c.closed) run.push_back(c.points[(start + i) % n].position);  // join the next run
+        while (i < n && label[(start + i) % n] == l)
+          run.push_back(c.points[(start + i++) % n].position);
+        if (i < n || c.closed)
+          run.push_back(c.points[(start + i) % n].position);  // join the next run
         Eigen::MatrixX3d P(static_cast<int>(run.size()), 3);
         for (size_t k = 0; k < run.size(); ++k) P.row(static_cast<int>(k)) = run[k];
         rep.finalCurves.push_back(P);
@@ -915,8 +926,9 @@ class Segmenter {
   void splitUpperLower(const Stage& stage, Segmentation& out, LabelAreas& labels) {
     const bool lowerOnly = out.layout == GarmentLayout::LowerOnly;
     const bool upperOnly = out.layout == GarmentLayout::UpperOnly;
-    BoundaryJob job{&upperLower_, {lowerOnly ? kSkin : kUpper, upperOnly ? kSkin : kLower},
-                    {true, false}, false, Label::Upper, Label::Lower};
+    BoundaryJob job{&upperLower_,  {lowerOnly ? kSkin : kUpper, upperOnly ? kSkin : kLower},
+                    {true, false}, false,
+                    Label::Upper,  Label::Lower};
     job.deltaE = separation(kUpper, kLower);
     job.highSide = 0;  // from the steps: a top worn over the trousers, or tucked in
     if (lowerOnly) {
@@ -933,9 +945,10 @@ class Segmenter {
     if (tentativeOnePiece_) {
       // Upper and lower of one colour: two garments only when the waist boundary found runs
       // along a step of the offset (a hem); otherwise one piece, as §5.3 decides by colour.
-      const double support =
-          run.result.vanished ? 0.0 : hemContrast(stage.mesh, run.result.phi, stage.step,
-                                                  run.report.highSide, options_.geometry);
+      const double support = run.result.vanished
+                                 ? 0.0
+                                 : hemContrast(stage.mesh, run.result.phi, stage.step,
+                                               run.report.highSide, options_.geometry);
       run.report.hemContrast = support;
       if (support < options_.geometry.hemContrast) {
         out.layout = GarmentLayout::OnePiece;
@@ -956,7 +969,8 @@ class Segmenter {
     }
     const Label positiveLabel = lowerOnly ? Label::Skin : Label::Upper;
     const Label negativeLabel = upperOnly ? Label::Skin : Label::Lower;
-    const Stage positive = childStage(stage, cut.positive), negative = childStage(stage, cut.negative);
+    const Stage positive = childStage(stage, cut.positive),
+                negative = childStage(stage, cut.negative);
     labels.add(positive, positiveLabel);
     labels.add(negative, negativeLabel);
     if (lowerOnly) {
@@ -976,8 +990,8 @@ class Segmenter {
         const bool lowerHidden = out.occlusion == Occlusion::LowerOccluded;
         const CutPart& part = lowerHidden ? initialCut.negative : initialCut.positive;
         GarmentPiece& hidden = lowerHidden ? lower : upper;
-        hidden = completeOccluded(hidden.name, hidden.label, stage, part, run.result.phi,
-                                  lowerHidden);
+        hidden =
+            completeOccluded(hidden.name, hidden.label, stage, part, run.result.phi, lowerHidden);
         out.notes.push_back(fmt::format(
             "{} garment occluded: the optimised waist boundary lies {:.0f} mm {} the initial one; "
             "{:.3f} m² completed under the {} garment (§5.3)",
@@ -1015,10 +1029,12 @@ class Segmenter {
     }
     if (rim.empty()) return p;
     Eigen::MatrixX3d rimPositions(static_cast<int>(rim.size()), 3);
-    for (size_t i = 0; i < rim.size(); ++i) rimPositions.row(static_cast<int>(i)) = s.mesh.V.row(rim[i]);
+    for (size_t i = 0; i < rim.size(); ++i)
+      rimPositions.row(static_cast<int>(i)) = s.mesh.V.row(rim[i]);
     const std::vector<ClosestHit> onBody = bodyQuery_->closestPoints(rimPositions);
     Eigen::MatrixX3d targets(static_cast<int>(rim.size()), 3);
-    for (size_t i = 0; i < rim.size(); ++i) targets.row(static_cast<int>(i)) = onBody[i].point.transpose();
+    for (size_t i = 0; i < rim.size(); ++i)
+      targets.row(static_cast<int>(i)) = onBody[i].point.transpose();
     p.mesh.V = biharmonicDeformation(s.mesh, rim, targets, fixed);
     p.occluded = true;
     const Eigen::VectorXd a = faceAreas(p.mesh);
@@ -1040,10 +1056,9 @@ class Segmenter {
   RegionColours colours_;
   bool hasFootRegion_ = false;
   // Median offset of each region's points from the body under the clothes (m), NaN without it.
-  double regionOffset_[4] = {std::numeric_limits<double>::quiet_NaN(),
-                             std::numeric_limits<double>::quiet_NaN(),
-                             std::numeric_limits<double>::quiet_NaN(),
-                             std::numeric_limits<double>::quiet_NaN()};
+  double regionOffset_[4] = {
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   bool regionClothed_[4] = {false, false, false, false};  // offsetSaysClothed per region
   // Upper and lower of one colour with the geometric cues: one piece unless B(U|L) finds a hem.
   bool tentativeOnePiece_ = false;
@@ -1118,8 +1133,8 @@ Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
   p.end();
   out.vertexLabel = r.vertexLabel;
   out.faceLabel = faceLabelsFromVertices(scan, r.vertexLabel);
-  out.notes.push_back(fmt::format("MRF baseline: {} alpha-expansion sweeps, energy {:.1f}",
-                                  r.sweeps, r.energy));
+  out.notes.push_back(
+      fmt::format("MRF baseline: {} alpha-expansion sweeps, energy {:.1f}", r.sweeps, r.energy));
   out.seconds = secondsSince(t0);
   return out;
 }

@@ -538,3 +538,45 @@ TEST(BezierOutline, SplitAtFractionsKeepsTheCurve) {
 
 }  // namespace
 }  // namespace s2p
+
+namespace s2p {
+namespace {
+
+// A skirt's hem with a scrap of leg left on it: a loop a few centimetres round near the left leg
+// is the only loop of its name ("left_leg_opening"), but nothing passes through it: it is filled
+// as a hole, and the waistband and hem stay open.
+TEST(Panels, LoopTooSmallForAHandIsAHoleNotAnOpening) {
+  TriMesh tube = makeCylinder(24, 64, 0.15, 0.3);
+  tube.V.col(1).array() -= 0.3;  // y ∈ [−0.3, 0]: around the hips and thighs
+  const Vec3 at(0.1, -0.25, std::sqrt(0.15 * 0.15 - 0.1 * 0.1));
+  std::vector<Eigen::RowVector3i> kept;
+  for (int f = 0; f < tube.numFaces(); ++f) {
+    const Vec3 c = (tube.V.row(tube.F(f, 0)) + tube.V.row(tube.F(f, 1)) + tube.V.row(tube.F(f, 2))) / 3;
+    if ((c - at).norm() > 0.012) kept.push_back(tube.F.row(f));
+  }
+  TriMesh holed = tube;
+  holed.F.resize(static_cast<int>(kept.size()), 3);
+  for (size_t f = 0; f < kept.size(); ++f) holed.F.row(static_cast<int>(f)) = kept[f];
+  removeUnreferencedVertices(holed);
+  const MeshTopology before(holed.F, holed.numVertices());
+  ASSERT_EQ(before.boundaryLoops().size(), 3u);
+  const BodyFrame frame(skeleton());
+  const auto openings = classifyOpenings(holed, before, GarmentKind::Lower, frame);
+  const auto small = std::min_element(openings.begin(), openings.end(),
+                                      [](auto& a, auto& b) { return a.length < b.length; });
+  ASSERT_LT(small->length, 0.06 * 1.65);  // below the rule's bound: the skeleton is 1.65 m tall
+  const int sameName = static_cast<int>(std::count_if(
+      openings.begin(), openings.end(), [&](auto& o) { return o.name == small->name; }));
+  EXPECT_EQ(sameName, 1);  // the longest loop of its name: the old rule kept it open
+
+  PanelsInput::Garment g = inputFor(holed, GarmentKind::Lower).garments[0];
+  PanelsInput::Garment unchanged = g;
+  EXPECT_EQ(fillScanHoles(unchanged, frame, 0.0), 0);  // no minimum: every name's longest kept
+  EXPECT_EQ(fillScanHoles(g, frame), 1);
+  const MeshTopology after(g.mesh.F, g.mesh.numVertices());
+  EXPECT_EQ(after.boundaryLoops().size(), 2u);
+  EXPECT_EQ(after.eulerCharacteristic(), 0);
+}
+
+}  // namespace
+}  // namespace s2p
