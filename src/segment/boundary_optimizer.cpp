@@ -1,8 +1,8 @@
 #include "segment/boundary_optimizer.h"
 
 #include <chrono>
-#include <optional>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "core/error.h"
@@ -68,10 +68,7 @@ struct BoundaryOptimizer::Impl {
   BoundaryTimings timings;
 
   Impl(const TriMesh& m, const BoundaryOptions& o)
-      : mesh(m),
-        options(o),
-        topology(m.F, m.numVertices()),
-        biharmonic(m, o.biharmonic) {
+      : mesh(m), options(o), topology(m.F, m.numVertices()), biharmonic(m, o.biharmonic) {
     if (o.geodesic == GeodesicMethod::Heat)
       heat.emplace(m, o.heat);
     else
@@ -249,8 +246,10 @@ void BoundaryOptimizer::checkInputs(const std::vector<ValueConstraint>& signs,
   bool nonzero = false;
   for (const auto& s : signs) nonzero |= s.value != 0;
   if (!nonzero)
-    throw InputError("boundary optimisation: at least one sign point with a non-zero value is "
-                     "needed (" + std::to_string(signs.size()) + " given)");
+    throw InputError(
+        "boundary optimisation: at least one sign point with a non-zero value is "
+        "needed (" +
+        std::to_string(signs.size()) + " given)");
 }
 
 BoundaryResult BoundaryOptimizer::iterateFrom(const Eigen::VectorXd& phi0,
@@ -301,19 +300,48 @@ int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
   const MeshTopology topo(mesh.F, mesh.numVertices());
   const Eigen::VectorXd area = vertexAreas(mesh);
   const int nV = mesh.numVertices();
-  const VertexRegions vr = vertexRegions(topo, [&](int e) {
+  const auto sameSide = [&](int e) {
     return (phi[topo.edges()(e, 0)] < 0) == (phi[topo.edges()(e, 1)] < 0);
-  });
+  };
+  const VertexRegions vr = vertexRegions(topo, sameSide);
   const std::vector<int>& region = vr.region;
   std::vector<double> regionArea(vr.count, 0.0);
-  for (int v = 0; v < nV; ++v) regionArea[region[v]] += area[v];
-  std::vector<char> keep(regionArea.size(), 0);
+  std::vector<char> negative(vr.count, 0);
+  for (int v = 0; v < nV; ++v) {
+    regionArea[region[v]] += area[v];
+    negative[region[v]] = phi[v] < 0;
+  }
+  std::vector<char> fixed(vr.count, 0);  // holds a sign point or is large: keeps its sign
   for (const ValueConstraint& c : signs)
-    for (int k = 0; k < 3; ++k) keep[region[mesh.F(c.point.face, k)]] = 1;
+    for (int k = 0; k < 3; ++k) fixed[region[mesh.F(c.point.face, k)]] = 1;
+  for (int r = 0; r < vr.count; ++r) fixed[r] = fixed[r] || regionArea[r] >= minArea;
+  // Region adjacency: an edge whose ends lie on opposite sides joins their regions.
+  std::vector<std::vector<int>> adjacent(vr.count);
+  for (int e = 0; e < topo.numEdges(); ++e)
+    if (!sameSide(e)) {
+      const int a = region[topo.edges()(e, 0)], b = region[topo.edges()(e, 1)];
+      adjacent[a].push_back(b);
+      adjacent[b].push_back(a);
+    }
+  // Outward from the fixed regions, each free region takes the final side of the region it is
+  // reached from: nested islands (a biharmonic that swings + − + along a limb far from its
+  // constraints) end on one side, where flipping every free region at once would only move
+  // the loops.
+  std::vector<char> finalNegative = negative, done = fixed;
+  std::vector<int> queue;
+  for (int r = 0; r < vr.count; ++r)
+    if (fixed[r]) queue.push_back(r);
+  for (size_t i = 0; i < queue.size(); ++i)
+    for (int b : adjacent[queue[i]])
+      if (!done[b]) {
+        done[b] = 1;
+        finalNegative[b] = finalNegative[queue[i]];
+        queue.push_back(b);
+      }
   int flipped = 0;
-  std::vector<char> flip(regionArea.size(), 0);
-  for (size_t r = 0; r < regionArea.size(); ++r)
-    if (!keep[r] && regionArea[r] < minArea) {
+  std::vector<char> flip(vr.count, 0);
+  for (int r = 0; r < vr.count; ++r)
+    if (finalNegative[r] != negative[r]) {
       flip[r] = 1;
       ++flipped;
     }

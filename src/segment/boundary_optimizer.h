@@ -130,7 +130,9 @@ Eigen::VectorXd regionSigns(const TriMesh& mesh, const MeshTopology& topology,
 // Regions of either sign with less than `minArea` (m²) that hold no sign point take the sign of
 // their surroundings (φ → −φ there): specks of a garment's print that look like the other side
 // (a yellow dot on a shirt above khaki trousers) survive the length regularisation as small
-// loops. Returns the number of regions flipped.
+// loops. Nested ones take the side of the region they lie in, outward from the regions that keep
+// theirs, so that an island inside an island leaves no loop. Returns the number of regions
+// flipped.
 int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
                   const std::vector<ValueConstraint>& signs);
 

@@ -5,9 +5,9 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <string>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "cli_support.h"
 #include "test_support.h"
@@ -45,9 +45,10 @@ TEST_P(TestScans, RunMakesAWholePatternWithGarmentIoU95_Slow) {
     for (const char* lost : {"not remeshed", "not flattened", "makes no pattern"})
       EXPECT_EQ(s.find(lost), std::string::npos) << GetParam() << ": " << s;
   }
-  const CliRun e = test::runCli("eval --truth " + q(dir / (std::string(GetParam()) + ".truth.json")) +
-                                    " --pred " + q(out / "run" / "segment") + " --json",
-                                false);
+  const CliRun e =
+      test::runCli("eval --truth " + q(dir / (std::string(GetParam()) + ".truth.json")) +
+                       " --pred " + q(out / "run" / "segment") + " --json",
+                   false);
   ASSERT_EQ(e.code, 0) << e.out;
   const nlohmann::json j = nlohmann::json::parse(e.out);
   const double iou = j["mean_garment_iou"].get<double>();

@@ -1,6 +1,8 @@
 // Panels from seam lines on meshes built here, with known answers: tubes split by seams into
 // disks of known area, a sleeve opened along its underarm, the fallback cut, seam removal and
 // paired sign-point removal, and the documented errors.
+#include "pattern/panels.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -13,7 +15,6 @@
 #include "core/shapes.h"
 #include "pattern/flat_pattern.h"
 #include "pattern/garmentcode.h"
-#include "pattern/panels.h"
 #include "pattern/placement.h"
 #include "segment/isoline.h"
 
@@ -83,8 +84,9 @@ SeamLine seam(SeamKind kind, const Eigen::VectorXd& phi, const TriMesh& m) {
 
 PanelsInput inputFor(const TriMesh& garment, GarmentKind kind) {
   PanelsInput in;
-  in.garments.push_back({"upper", kind, garment,
-                         Eigen::VectorXi::LinSpaced(garment.numFaces(), 0, garment.numFaces() - 1)});
+  in.garments.push_back(
+      {"upper", kind, garment,
+       Eigen::VectorXi::LinSpaced(garment.numFaces(), 0, garment.numFaces() - 1)});
   in.body = makeIcosphere(2, 0.05);  // only the fallback cut's visibility looks at it
   in.canonical = skeleton();
   return in;
@@ -239,7 +241,7 @@ TEST(Panels, BadGarmentsGiveTheirDocumentedErrors) {
 // === Seam projection (§6.1.2) on a garment tube around a body tube.
 
 struct SeamScene {
-  TriMesh body = makeCylinder(40, 48, 0.10, 1.0);  // y ∈ [0, 1]
+  TriMesh body = makeCylinder(40, 48, 0.10, 1.0);     // y ∈ [0, 1]
   TriMesh garment = makeCylinder(20, 48, 0.13, 0.5);  // covers y ∈ [0, 0.5] only
   SurfacePoint on(const Vec3& p) const {
     const MeshQuery q(body);
@@ -340,7 +342,8 @@ TEST(Panels, ScanHolesAreFilledButOpeningsKept) {
   TriMesh holed = tube;
   std::vector<Eigen::RowVector3i> kept;
   for (int f = 0; f < tube.numFaces(); ++f) {
-    const Vec3 c = (tube.V.row(tube.F(f, 0)) + tube.V.row(tube.F(f, 1)) + tube.V.row(tube.F(f, 2))) / 3;
+    const Vec3 c =
+        (tube.V.row(tube.F(f, 0)) + tube.V.row(tube.F(f, 1)) + tube.V.row(tube.F(f, 2))) / 3;
     if ((c - Vec3(0, 0.2, 0.15)).norm() > 0.03) kept.push_back(tube.F.row(f));
   }
   holed.F.resize(static_cast<int>(kept.size()), 3);
@@ -379,7 +382,8 @@ TEST(Panels, AGarmentThatMakesNoPatternLeavesTheOthersTheirs) {
   EXPECT_EQ(r.garments[0].name, "upper");
   ASSERT_EQ(r.panels.size(), 1u);
   bool named = false;
-  for (const std::string& w : r.warnings) named |= w.find("'lower' makes no pattern") != std::string::npos;
+  for (const std::string& w : r.warnings)
+    named |= w.find("'lower' makes no pattern") != std::string::npos;
   EXPECT_TRUE(named);
   // Alone, the bad garment's error is raised.
   in.garments.erase(in.garments.begin());
@@ -419,15 +423,17 @@ TEST(Stitches, TwoRectanglesOfATubeAreSewnVertexToVertexWhereTheyMet) {
     ASSERT_GE(st.vertices.size(), 30u);  // 10 mm remeshing
     // Where the panels met on the tube, the paired vertices are one point.
     for (const auto& [a, b] : st.vertices)
-      EXPECT_LT((t.flat.panels[st.panelA].position.row(a) -
-                 t.flat.panels[st.panelB].position.row(b)).norm(), 1e-3);
+      EXPECT_LT(
+          (t.flat.panels[st.panelA].position.row(a) - t.flat.panels[st.panelB].position.row(b))
+              .norm(),
+          1e-3);
     EXPECT_LT(st.scanGap, 1e-3);
   }
 }
 
 TEST(GarmentCode, EulerAnglesAreGarmentCodesRzRyRx) {
-  for (const Eigen::Vector3d deg : {Eigen::Vector3d(10, -20, 30), Eigen::Vector3d(0, 180, 0),
-                                    Eigen::Vector3d(-75, 40, 160)}) {
+  for (const Eigen::Vector3d deg :
+       {Eigen::Vector3d(10, -20, 30), Eigen::Vector3d(0, 180, 0), Eigen::Vector3d(-75, 40, 160)}) {
     const Eigen::Vector3d r = deg * M_PI / 180;
     const Eigen::Matrix3d R = (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) *
                                Eigen::AngleAxisd(r.y(), Eigen::Vector3d::UnitY()) *
@@ -466,7 +472,8 @@ TEST(GarmentCode, ATubePatternRoundTripsThroughTheSpecification) {
     const nlohmann::json& p = panels.at(panel);
     const nlohmann::json& e = p["edges"][edge];
     const auto vtx = [&](int i) -> Eigen::Vector2d {
-      return Eigen::Vector2d(p["vertices"][i][0].get<double>(), p["vertices"][i][1].get<double>()) / 100;
+      return Eigen::Vector2d(p["vertices"][i][0].get<double>(), p["vertices"][i][1].get<double>()) /
+             100;
     };
     const Eigen::Vector2d a = vtx(e["endpoints"][0]), b = vtx(e["endpoints"][1]);
     CubicBezier c{{a, a + (b - a) / 3, a + 2 * (b - a) / 3, b}};
@@ -493,7 +500,8 @@ TEST(GarmentCode, ATubePatternRoundTripsThroughTheSpecification) {
   double chains = 0;
   for (const Panel& p : t.panels.panels)
     if (p.name == "front")
-      for (const FlatEdge& e : t.flat.panels[&p - &t.panels.panels[0]].edges) chains += e.chain.length();
+      for (const FlatEdge& e : t.flat.panels[&p - &t.panels.panels[0]].edges)
+        chains += e.chain.length();
   EXPECT_NEAR(perimeter, chains, 1e-6);
   // Stitches: edge to edge, each edge once, both sides of equal length, every side seam covered.
   std::set<std::pair<std::string, int>> used;
@@ -511,16 +519,17 @@ TEST(GarmentCode, ATubePatternRoundTripsThroughTheSpecification) {
   // Placement: a vertex lands at R·(x, y, 0) + t in cm.
   const nlohmann::json& back = panels.at("upper_back");
   EXPECT_NEAR(back["translation"][2].get<double>(), -20.0, 1e-9);
-  EXPECT_NEAR(std::abs(back["rotation"][1].get<double>()) + std::abs(back["rotation"][0].get<double>()),
-              180.0, 1e-6);
+  EXPECT_NEAR(
+      std::abs(back["rotation"][1].get<double>()) + std::abs(back["rotation"][0].get<double>()),
+      180.0, 1e-6);
 }
 
 TEST(BezierOutline, SplitAtFractionsKeepsTheCurve) {
   BezierChain c;
-  c.segments.push_back({{Eigen::Vector2d(0, 0), Eigen::Vector2d(0.1, 0.05), Eigen::Vector2d(0.2, 0.05),
-                         Eigen::Vector2d(0.3, 0)}});
-  c.segments.push_back({{Eigen::Vector2d(0.3, 0), Eigen::Vector2d(0.4, -0.05), Eigen::Vector2d(0.5, 0),
-                         Eigen::Vector2d(0.55, 0.1)}});
+  c.segments.push_back({{Eigen::Vector2d(0, 0), Eigen::Vector2d(0.1, 0.05),
+                         Eigen::Vector2d(0.2, 0.05), Eigen::Vector2d(0.3, 0)}});
+  c.segments.push_back({{Eigen::Vector2d(0.3, 0), Eigen::Vector2d(0.4, -0.05),
+                         Eigen::Vector2d(0.5, 0), Eigen::Vector2d(0.55, 0.1)}});
   const std::vector<double> joints = jointFractions(c);
   ASSERT_EQ(joints.size(), 1u);
   const BezierChain s = splitChainAt(c, {0.25, joints[0] + 1e-6, 0.8});
@@ -551,7 +560,8 @@ TEST(Panels, LoopTooSmallForAHandIsAHoleNotAnOpening) {
   const Vec3 at(0.1, -0.25, std::sqrt(0.15 * 0.15 - 0.1 * 0.1));
   std::vector<Eigen::RowVector3i> kept;
   for (int f = 0; f < tube.numFaces(); ++f) {
-    const Vec3 c = (tube.V.row(tube.F(f, 0)) + tube.V.row(tube.F(f, 1)) + tube.V.row(tube.F(f, 2))) / 3;
+    const Vec3 c =
+        (tube.V.row(tube.F(f, 0)) + tube.V.row(tube.F(f, 1)) + tube.V.row(tube.F(f, 2))) / 3;
     if ((c - at).norm() > 0.012) kept.push_back(tube.F.row(f));
   }
   TriMesh holed = tube;

@@ -266,3 +266,31 @@ TEST(BoundaryOptimizer, BadInputThrowsInputError) {
 
 }  // namespace
 }  // namespace s2p
+
+namespace s2p {
+namespace {
+
+// A limb far from its constraints: φ swings + − + along a tube (a biharmonic extrapolated down
+// a trouser leg). The sign point lies at the top; the two bands below hold none. Flipping both at
+// once would leave a loop between them; taking the side of the region each lies in leaves φ > 0
+// all along, and no isoline.
+TEST(BoundaryOptimizer, NestedIslandsEndOnTheSideOfTheRegionAroundThem) {
+  const TriMesh tube = makeCylinder(40, 24, 0.05, 0.8);
+  Eigen::VectorXd phi(tube.numVertices());
+  for (int v = 0; v < tube.numVertices(); ++v) {
+    const double y = tube.V(v, 1);
+    phi[v] = y > 0.5 ? y - 0.45 : (y > 0.25 ? -(0.55 - y) : 0.3 - y);  // + above 0.5, − band, +
+  }
+  int top = 0;
+  for (int v = 1; v < tube.numVertices(); ++v)
+    if (tube.V(v, 1) > tube.V(top, 1)) top = v;
+  const std::vector<ValueConstraint> signs = {{SurfacePoint::atVertex(tube.F, top), 1.0}};
+  const int flipped = removeIslands(tube, phi, std::numeric_limits<double>::infinity(), signs);
+  EXPECT_EQ(flipped, 1);  // the − band only; the + band below it was on the right side already
+  EXPECT_GT(phi.minCoeff(), 0.0);
+  const MeshTopology topo(tube.F, tube.numVertices());
+  EXPECT_TRUE(extractIsoline(tube, topo, phi).curves.empty());
+}
+
+}  // namespace
+}  // namespace s2p
