@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 
@@ -69,6 +70,25 @@ std::vector<SeamPair> seamPairs(const PanelsResult& panels) {
   return pairs;
 }
 
+// Whether every crossing of a flattened boundary lies between two segments of openings (hems,
+// cuffs): those are untangled after the outline fit (untangleOpenings), so a truing whose only
+// overlaps are there is kept; a seam edge that crosses anything is not.
+bool onlyOpeningsCross(const Panel& panel, const std::vector<int>& boundary,
+                       const std::vector<std::pair<int, int>>& crossings) {
+  std::map<std::pair<int, int>, bool> opening;  // boundary segment (min, max) → on an opening
+  for (const PanelEdge& e : panel.edges)
+    for (size_t k = 0; k + 1 < e.vertices.size(); ++k)
+      opening[std::minmax(e.vertices[k], e.vertices[k + 1])] = e.opening;
+  const int n = static_cast<int>(boundary.size());
+  const auto isOpening = [&](int i) {
+    const auto it = opening.find(std::minmax(boundary[i], boundary[(i + 1) % n]));
+    return it != opening.end() && it->second;
+  };
+  for (const auto& [i, j] : crossings)
+    if (!isOpening(i) || !isOpening(j)) return false;
+  return true;
+}
+
 // Seam truing (flatten.h): both edges of every pair whose panels flattened get the mean of
 // their 2D lengths; each panel is moved to its targets, then re-aligned to its grain.
 void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
@@ -92,8 +112,10 @@ void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
       Eigen::MatrixX2d trued =
           trueBoundaryLengths(mesh, fp.grain, fp.uv, targets[p], options.flatten, options.truing);
       if (options.flatten.alignGrain) trued = alignToGrain(mesh, fp.grain, trued);
-      // Truing moves the boundary: it must not come to overlap itself.
-      if (polygonSelfIntersects(trued, fp.flattening.boundary))
+      // Truing moves the boundary: it must not come to overlap itself, but at its openings.
+      std::vector<std::pair<int, int>> crossings;
+      if (polygonSelfIntersects(trued, fp.flattening.boundary, &crossings) &&
+          !onlyOpeningsCross(panels.panels[p], fp.flattening.boundary, crossings))
         failures[p] = "its trued outline overlapped itself";
       else
         fp.uv = trued;
@@ -218,6 +240,8 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
     fp.seconds = secondsSince(tp);
   }
   std::vector<SeamPair> pairs = seamPairs(panels);
+  std::vector<Eigen::MatrixX2d> untrued(panels.panels.size());
+  for (size_t p = 0; p < panels.panels.size(); ++p) untrued[p] = r.panels[p].uv;
   if (options.trueSeams) trueSeams(panels, pairs, options, r);
   for (size_t p = 0; p < panels.panels.size(); ++p)
     if (r.panels[p].error.empty()) outline(panels.panels[p], options, r.panels[p]);
@@ -250,7 +274,18 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
     if (!fp.error.empty()) continue;
     const auto tp = std::chrono::steady_clock::now();
     try {
-      const int rounds = untangleOpenings(panels.panels[p], counts[p], options, fp);
+      int rounds = untangleOpenings(panels.panels[p], counts[p], options, fp);
+      if (rounds < 0 && !fp.uv.isApprox(untrued[p])) {
+        // The trued openings could not be untangled: the flattened shape, untrued.
+        fp.uv = untrued[p];
+        outline(panels.panels[p], options, fp);
+        rounds = untangleOpenings(panels.panels[p], counts[p], options, fp);
+        r.warnings.push_back(
+            fmt::format("panel '{}' of {}: truing undone (its openings "
+                        "folded over themselves); its stitches keep their "
+                        "flattened lengths",
+                        panels.panels[p].name, panels.panels[p].garment));
+      }
       if (rounds > 0) {
         double worst = 0;
         for (size_t e = 0; e < fp.edges.size(); ++e)

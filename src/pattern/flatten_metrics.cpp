@@ -43,19 +43,33 @@ StrainSummary weightedSummary(const std::vector<double>& values, const Eigen::Ve
 
 }  // namespace
 
-bool polygonSelfIntersects(const Eigen::MatrixX2d& uv, const std::vector<int>& loop) {
+bool polygonSelfIntersects(const Eigen::MatrixX2d& uv, const std::vector<int>& loop,
+                           std::vector<std::pair<int, int>>* crossings) {
   const int n = static_cast<int>(loop.size());
   if (n < 3) return true;
   auto point = [&](int i) { return Point2(uv(loop[i % n], 0), uv(loop[i % n], 1)); };
+  // Records an offending pair; true when the search may stop (no list asked for).
+  auto found = [&](int i, int j) {
+    if (!crossings) return true;
+    crossings->emplace_back(std::min(i, j) % n, std::max(i, j) % n);
+    return false;
+  };
   // Adjacent edges fold back when collinear and pointing back over each other.
   for (int i = 0; i < n; ++i) {
     const Point2 a = point(i), b = point(i + 1), c = point(i + 2);
-    if (a == b) return true;
-    if (CGAL::orientation(a, b, c) == CGAL::COLLINEAR &&
-        (a.x() - b.x()) * (c.x() - b.x()) + (a.y() - b.y()) * (c.y() - b.y()) > 0.0)
+    if (a == b && found(i, i + 1)) return true;
+    if (a != b && CGAL::orientation(a, b, c) == CGAL::COLLINEAR &&
+        (a.x() - b.x()) * (c.x() - b.x()) + (a.y() - b.y()) * (c.y() - b.y()) > 0.0 &&
+        found(i, i + 1))
       return true;
   }
-  if (n == 3) return false;
+  const auto done = [&] {
+    if (!crossings) return false;
+    std::sort(crossings->begin(), crossings->end());
+    crossings->erase(std::unique(crossings->begin(), crossings->end()), crossings->end());
+    return !crossings->empty();
+  };
+  if (n == 3) return done();
   // Uniform grid; each edge goes into every cell its bounding box overlaps.
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
@@ -92,10 +106,12 @@ bool polygonSelfIntersects(const Eigen::MatrixX2d& uv, const std::vector<int>& l
         const int i = bucket[s], j = bucket[t];
         const int gap = std::abs(i - j);
         if (gap == 1 || gap == n - 1) continue;  // adjacent: share a corner, checked above
-        if (CGAL::do_intersect(Segment2(point(i), point(i + 1)), Segment2(point(j), point(j + 1))))
+        if (CGAL::do_intersect(Segment2(point(i), point(i + 1)),
+                               Segment2(point(j), point(j + 1))) &&
+            found(i, j))
           return true;
       }
-  return false;
+  return done();
 }
 
 FlatteningMetrics flatteningMetrics(const TriMesh& panel3d, const Eigen::MatrixX2d& uv,

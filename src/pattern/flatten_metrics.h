@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 #include "core/tri_mesh.h"
@@ -40,6 +41,9 @@ FlatteningMetrics flatteningMetrics(const TriMesh& panel3d, const Eigen::MatrixX
 // True when the closed polygon uv(loop[0]), uv(loop[1]), ... touches or crosses itself: two
 // non-adjacent edges intersect, or two adjacent edges fold back onto each other. Exact
 // orientation predicates (CGAL's Epick), a uniform grid over the edges: O(n) for a fair loop.
-bool polygonSelfIntersects(const Eigen::MatrixX2d& uv, const std::vector<int>& loop);
+// With `crossings`, every offending pair of segments (segment i runs loop[i] → loop[i+1]) is
+// collected, sorted and unique, instead of stopping at the first.
+bool polygonSelfIntersects(const Eigen::MatrixX2d& uv, const std::vector<int>& loop,
+                           std::vector<std::pair<int, int>>* crossings = nullptr);
 
 }  // namespace s2p
