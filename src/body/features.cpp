@@ -1,9 +1,10 @@
 #include "body/features.h"
 
-#include <algorithm>
-#include <initializer_list>
-#include <cmath>
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -85,7 +86,9 @@ class Rules {
   const Eigen::MatrixX3d& canonical_;
 };
 
-Vec3 loopCentroid(const SectionLoop& loop) { return loop.points.colwise().mean().transpose(); }
+Vec3 loopCentroid(const SectionLoop& loop) {
+  return loop.points.colwise().mean().transpose();
+}
 
 // The loop point farthest along direction d.
 Vec3 extremePoint(const SectionLoop& loop, const Vec3& d) {
@@ -131,8 +134,7 @@ FeatureSpline closedSpline(const Rules& r, const std::string& name, const Sectio
   return s;
 }
 
-FeatureSpline openSpline(const Rules& r, const std::string& name,
-                         const std::vector<Vec3>& points) {
+FeatureSpline openSpline(const Rules& r, const std::string& name, const std::vector<Vec3>& points) {
   FeatureSpline s{name, {}, false};
   for (const Vec3& p : points) s.anchors.push_back(r.surface(p));
   return s;
@@ -159,8 +161,8 @@ struct Side {
 const Side kSides[2] = {
     {"left", +1, C::LeftClavicle, C::LeftShoulder, C::LeftElbow, C::LeftWrist, C::LeftHandTip,
      C::LeftHip, C::LeftKnee, C::LeftAnkle, C::LeftToeTip, C::LeftHeel},
-    {"right", -1, C::RightClavicle, C::RightShoulder, C::RightElbow, C::RightWrist,
-     C::RightHandTip, C::RightHip, C::RightKnee, C::RightAnkle, C::RightToeTip, C::RightHeel}};
+    {"right", -1, C::RightClavicle, C::RightShoulder, C::RightElbow, C::RightWrist, C::RightHandTip,
+     C::RightHip, C::RightKnee, C::RightAnkle, C::RightToeTip, C::RightHeel}};
 
 // A place on a bone: fraction t of the way from joint a to joint b.
 struct BonePlace {
@@ -180,31 +182,30 @@ void addLimbPairs(const Rules& r, CurveFeatures& f, const Side& s, const char* l
 }
 
 // Rule parameters (fractions along bones), named once here.
-constexpr double kNeckLoopT = 0.3;     // neck → head: lower neck, where a collar sits
-constexpr double kAnkleLoopT = 0.12;   // ankle → knee: just above the ankle bone
-constexpr double kWaistT = 0.22;       // pelvis → neck: navel height
-constexpr double kChestT = 0.62;       // pelvis → neck: chest (front/back sign points)
-constexpr double kHipT = 0.04;         // pelvis → neck: hip section above the crotch
-constexpr double kArmholeT = 0.12;     // shoulder → elbow: armhole just outside the joint
+constexpr double kNeckLoopT = 0.3;    // neck → head: lower neck, where a collar sits
+constexpr double kAnkleLoopT = 0.12;  // ankle → knee: just above the ankle bone
+constexpr double kWaistT = 0.22;      // pelvis → neck: navel height
+constexpr double kChestT = 0.62;      // pelvis → neck: chest (front/back sign points)
+constexpr double kHipT = 0.04;        // pelvis → neck: hip section above the crotch
+constexpr double kArmholeT = 0.12;    // shoulder → elbow: armhole just outside the joint
 
 void boundaryFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   // B(U|S): loops around the neck and both wrists; + nose, hand tips; − chest front/back.
   CurveFeatures& us = fs.upperSkin;
   us.name = "U|S";
   const Vec3 neckAxis = r.at(C::Head) - r.at(C::Neck);
-  us.splines.push_back(
-      closedSpline(r, "neck", r.boneLoop(C::Neck, C::Head, kNeckLoopT, "neck"), neckAxis,
-                   opt.loopAnchors));
+  us.splines.push_back(closedSpline(r, "neck", r.boneLoop(C::Neck, C::Head, kNeckLoopT, "neck"),
+                                    neckAxis, opt.loopAnchors));
   for (const Side& s : kSides) {
     const Vec3 axis = r.at(s.wrist) - r.at(s.elbow);
-    us.splines.push_back(closedSpline(r, fmt::format("{}_wrist", s.name),
-                                      r.loopAround(r.at(s.wrist), axis,
-                                                   fmt::format("{} wrist", s.name)),
-                                      axis, opt.loopAnchors));
+    us.splines.push_back(closedSpline(
+        r, fmt::format("{}_wrist", s.name),
+        r.loopAround(r.at(s.wrist), axis, fmt::format("{} wrist", s.name)), axis, opt.loopAnchors));
   }
   const SectionLoop chest = r.torsoLoop(kChestT, "chest");
   addSign(r, us, "nose", r.at(C::Nose), +1);
-  for (const Side& s : kSides) addSign(r, us, fmt::format("{}_hand_tip", s.name), r.at(s.handTip), +1);
+  for (const Side& s : kSides)
+    addSign(r, us, fmt::format("{}_hand_tip", s.name), r.at(s.handTip), +1);
   addSign(r, us, "chest_front", extremePoint(chest, kFront), -1);
   addSign(r, us, "chest_back", extremePoint(chest, -kFront), -1);
 
@@ -213,15 +214,14 @@ void boundaryFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs)
   ls.name = "L|S";
   for (const Side& s : kSides) {
     const Vec3 axis = r.at(s.knee) - r.at(s.ankle);
-    ls.splines.push_back(closedSpline(
-        r, fmt::format("{}_ankle", s.name),
-        r.boneLoop(s.ankle, s.knee, kAnkleLoopT, fmt::format("{} ankle", s.name)), axis,
-        opt.loopAnchors));
+    ls.splines.push_back(
+        closedSpline(r, fmt::format("{}_ankle", s.name),
+                     r.boneLoop(s.ankle, s.knee, kAnkleLoopT, fmt::format("{} ankle", s.name)),
+                     axis, opt.loopAnchors));
   }
   for (const Side& s : kSides) {
     addSign(r, ls, fmt::format("{}_toe_tip", s.name), r.at(s.toeTip), +1);
-    const SectionLoop midFoot =
-        r.boneLoop(s.heel, s.toeTip, 0.5, fmt::format("{} foot", s.name));
+    const SectionLoop midFoot = r.boneLoop(s.heel, s.toeTip, 0.5, fmt::format("{} foot", s.name));
     addSign(r, ls, fmt::format("{}_sole", s.name), extremePoint(midFoot, -kUp), +1);
   }
 
@@ -229,8 +229,8 @@ void boundaryFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs)
   CurveFeatures& ul = fs.upperLower;
   ul.name = "U|L";
   const Vec3 spine = r.at(C::Neck) - r.at(C::Pelvis);
-  ul.splines.push_back(closedSpline(r, "waist", r.torsoLoop(kWaistT, "waist"), spine,
-                                    opt.loopAnchors));
+  ul.splines.push_back(
+      closedSpline(r, "waist", r.torsoLoop(kWaistT, "waist"), spine, opt.loopAnchors));
   addSign(r, ul, "chest_front", extremePoint(chest, kFront), +1);
   addSign(r, ul, "chest_back", extremePoint(chest, -kFront), +1);
 }
@@ -309,7 +309,9 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     addFrontBackPair(r, upper, fmt::format("torso_{:.2f}", t), r.torsoLoop(t, "torso"), kFront);
   for (const Side& s : kSides)
     addLimbPairs(r, upper, s, "arm",
-                 {{s.shoulder, s.elbow, 0.35}, {s.shoulder, s.elbow, 0.7}, {s.elbow, s.wrist, 0.3},
+                 {{s.shoulder, s.elbow, 0.35},
+                  {s.shoulder, s.elbow, 0.7},
+                  {s.elbow, s.wrist, 0.3},
                   {s.elbow, s.wrist, 0.7}});
   fs.seams.push_back(std::move(upper));
 
@@ -320,10 +322,8 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     const Vec3 n = ((r.at(s.elbow) - r.at(s.shoulder)).normalized() + s.sign * kLeft).normalized();
     shoulder.splines.push_back(closedSpline(
         r, fmt::format("{}_armhole", s.name),
-        r.loopAround(r.along(s.shoulder, s.elbow, kArmholeT), n,
-                     fmt::format("{} armhole", s.name)),
-        n,
-        opt.loopAnchors));
+        r.loopAround(r.along(s.shoulder, s.elbow, kArmholeT), n, fmt::format("{} armhole", s.name)),
+        n, opt.loopAnchors));
   }
   const SectionLoop chest = r.torsoLoop(kChestT, "chest");
   addSign(r, shoulder, "chest_front", extremePoint(chest, kFront), +1);
@@ -336,9 +336,9 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   for (const Side& s : kSides) {
     const Vec3 lateral = s.sign * kLeft;
     std::vector<Vec3> outer, inner;
-    for (auto [a, b, t] : {std::tuple{s.ankle, s.knee, kAnkleLoopT}, std::tuple{s.ankle, s.knee, 0.5},
-                           std::tuple{s.knee, s.hip, 0.0}, std::tuple{s.knee, s.hip, 0.4},
-                           std::tuple{s.knee, s.hip, 0.75}}) {
+    for (auto [a, b, t] : {std::tuple{s.ankle, s.knee, kAnkleLoopT},
+                           std::tuple{s.ankle, s.knee, 0.5}, std::tuple{s.knee, s.hip, 0.0},
+                           std::tuple{s.knee, s.hip, 0.4}, std::tuple{s.knee, s.hip, 0.75}}) {
       const Vec3 bone = r.at(b) - r.at(a);
       const SectionLoop loop = r.boneLoop(a, b, t, fmt::format("{} leg", s.name));
       outer.push_back(extremePoint(loop, orthogonalTo(lateral, bone)));
@@ -353,7 +353,9 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   }
   for (const Side& s : kSides)
     addLimbPairs(r, lower, s, "leg",
-                 {{s.ankle, s.knee, 0.3}, {s.ankle, s.knee, 0.7}, {s.knee, s.hip, 0.3},
+                 {{s.ankle, s.knee, 0.3},
+                  {s.ankle, s.knee, 0.7},
+                  {s.knee, s.hip, 0.3},
                   {s.knee, s.hip, 0.6}});
   for (double t : {kHipT, 0.12, kWaistT})
     addFrontBackPair(r, lower, fmt::format("hip_{:.2f}", t), r.torsoLoop(t, "hip"), kFront);
@@ -405,8 +407,10 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   for (double t : {kHipT, 0.12}) {
     const SectionLoop loop = r.torsoLoop(t, "hip");
     const int i = static_cast<int>(crotch.signs.size());
-    crotch.signs.push_back({fmt::format("hip_{:.2f}_left", t), r.surface(extremePoint(loop, kLeft)), +1, i + 1});
-    crotch.signs.push_back({fmt::format("hip_{:.2f}_right", t), r.surface(extremePoint(loop, -kLeft)), -1, i});
+    crotch.signs.push_back(
+        {fmt::format("hip_{:.2f}_left", t), r.surface(extremePoint(loop, kLeft)), +1, i + 1});
+    crotch.signs.push_back(
+        {fmt::format("hip_{:.2f}_right", t), r.surface(extremePoint(loop, -kLeft)), -1, i});
   }
   for (double t : {0.3, 0.5}) {
     const int i = static_cast<int>(crotch.signs.size());
@@ -415,12 +419,23 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     crotch.signs.push_back({fmt::format("thigh_{:.2f}_left", t), r.surface(pl), +1, i + 1});
     crotch.signs.push_back({fmt::format("thigh_{:.2f}_right", t), r.surface(pr), -1, i});
   }
+  // Down the shins too: a biharmonic is held only near its constraints, and from the thighs alone
+  // it swung across a striding leg (walking: the left/right line ran diagonally over both shins).
+  // On shorts these points find no garment and go with their pairs (§6.1.2).
+  for (double t : {0.3, 0.7}) {
+    const int i = static_cast<int>(crotch.signs.size());
+    const Vec3 pl = extremePoint(r.boneLoop(C::LeftKnee, C::LeftAnkle, t, "left shin"), kLeft);
+    const Vec3 pr = extremePoint(r.boneLoop(C::RightKnee, C::RightAnkle, t, "right shin"), -kLeft);
+    crotch.signs.push_back({fmt::format("shin_{:.2f}_left", t), r.surface(pl), +1, i + 1});
+    crotch.signs.push_back({fmt::format("shin_{:.2f}_right", t), r.surface(pr), -1, i});
+  }
   fs.seams.push_back(std::move(crotch));
 }
 
 nlohmann::json pointJson(const SurfacePoint& p, const TriMesh& mesh) {
   const Vec3 x = p.position(mesh);
-  return {{"face", p.face}, {"bary", {p.bary.x(), p.bary.y(), p.bary.z()}},
+  return {{"face", p.face},
+          {"bary", {p.bary.x(), p.bary.y(), p.bary.z()}},
           {"position", {x.x(), x.y(), x.z()}}};
 }
 
@@ -465,10 +480,14 @@ CurveFeatures curveFromJson(const nlohmann::json& j) {
 
 const char* toString(RegionLabel label) {
   switch (label) {
-    case RegionLabel::Skin: return "skin";
-    case RegionLabel::Upper: return "upper";
-    case RegionLabel::Lower: return "lower";
-    case RegionLabel::Foot: return "foot";
+    case RegionLabel::Skin:
+      return "skin";
+    case RegionLabel::Upper:
+      return "upper";
+    case RegionLabel::Lower:
+      return "lower";
+    case RegionLabel::Foot:
+      return "foot";
   }
   return "skin";
 }
