@@ -412,22 +412,27 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     crotch.signs.push_back(
         {fmt::format("hip_{:.2f}_right", t), r.surface(extremePoint(loop, -kLeft)), -1, i});
   }
-  for (double t : {0.3, 0.5}) {
+  // Down each leg, on its outer side: the thighs, and the shins too, as a biharmonic is held only
+  // near its constraints and from the thighs alone it swung across a striding leg (walking: the
+  // left/right line ran diagonally over both shins). On shorts the shin points find no garment
+  // and go with their pairs (§6.1.2).
+  struct LegPlace {
+    const char* part;
+    C left0, left1, right0, right1;
+    double t;
+  };
+  for (const LegPlace& g :
+       {LegPlace{"thigh", C::LeftHip, C::LeftKnee, C::RightHip, C::RightKnee, 0.3},
+        LegPlace{"thigh", C::LeftHip, C::LeftKnee, C::RightHip, C::RightKnee, 0.5},
+        LegPlace{"shin", C::LeftKnee, C::LeftAnkle, C::RightKnee, C::RightAnkle, 0.3},
+        LegPlace{"shin", C::LeftKnee, C::LeftAnkle, C::RightKnee, C::RightAnkle, 0.7}}) {
     const int i = static_cast<int>(crotch.signs.size());
-    const Vec3 pl = extremePoint(r.boneLoop(C::LeftHip, C::LeftKnee, t, "left thigh"), kLeft);
-    const Vec3 pr = extremePoint(r.boneLoop(C::RightHip, C::RightKnee, t, "right thigh"), -kLeft);
-    crotch.signs.push_back({fmt::format("thigh_{:.2f}_left", t), r.surface(pl), +1, i + 1});
-    crotch.signs.push_back({fmt::format("thigh_{:.2f}_right", t), r.surface(pr), -1, i});
-  }
-  // Down the shins too: a biharmonic is held only near its constraints, and from the thighs alone
-  // it swung across a striding leg (walking: the left/right line ran diagonally over both shins).
-  // On shorts these points find no garment and go with their pairs (§6.1.2).
-  for (double t : {0.3, 0.7}) {
-    const int i = static_cast<int>(crotch.signs.size());
-    const Vec3 pl = extremePoint(r.boneLoop(C::LeftKnee, C::LeftAnkle, t, "left shin"), kLeft);
-    const Vec3 pr = extremePoint(r.boneLoop(C::RightKnee, C::RightAnkle, t, "right shin"), -kLeft);
-    crotch.signs.push_back({fmt::format("shin_{:.2f}_left", t), r.surface(pl), +1, i + 1});
-    crotch.signs.push_back({fmt::format("shin_{:.2f}_right", t), r.surface(pr), -1, i});
+    const Vec3 pl =
+        extremePoint(r.boneLoop(g.left0, g.left1, g.t, fmt::format("left {}", g.part)), kLeft);
+    const Vec3 pr =
+        extremePoint(r.boneLoop(g.right0, g.right1, g.t, fmt::format("right {}", g.part)), -kLeft);
+    crotch.signs.push_back({fmt::format("{}_{:.2f}_left", g.part, g.t), r.surface(pl), +1, i + 1});
+    crotch.signs.push_back({fmt::format("{}_{:.2f}_right", g.part, g.t), r.surface(pr), -1, i});
   }
   fs.seams.push_back(std::move(crotch));
 }
