@@ -24,8 +24,8 @@ struct ClothPanel {
 
 // Sew vertex `vertexA` of panel `panelA` to vertex `vertexB` of panel `panelB` (indices into
 // DrapeInput::panels and each panel's vertices). A panel may be sewn to itself (a dart, a
-// sleeve's underarm seam).
-struct Stitch {
+// sleeve's underarm seam). One vertex pair of a seam (pattern/placement.h's Stitch is the seam).
+struct ClothStitch {
   int panelA = -1;
   int vertexA = -1;
   int panelB = -1;
@@ -34,7 +34,7 @@ struct Stitch {
 
 struct DrapeInput {
   std::vector<ClothPanel> panels;
-  std::vector<Stitch> stitches;
+  std::vector<ClothStitch> stitches;
   TriMesh body;  // closed, metres, +Y up, facing +Z (body_rest.obj)
 };
 

@@ -18,8 +18,8 @@ double MeshComparison::maxMm() const {
   return std::max(aToB.maxMm, bToA.maxMm);
 }
 
-DistanceStats distanceStats(const TriMesh& mesh, const Eigen::VectorXd& distance) {
-  DistanceStats s;
+SurfaceDistanceStats distanceStats(const TriMesh& mesh, const Eigen::VectorXd& distance) {
+  SurfaceDistanceStats s;
   const int nv = mesh.numVertices();
   if (nv == 0 || distance.size() != nv) return s;
   // Vertex areas: a third of each incident face (a vertex on no face weighs nothing; if no

@@ -10,7 +10,7 @@ namespace s2p {
 
 // Distances from the vertices of one mesh to the surface of the other, area-weighted (each
 // vertex carries a third of its faces' area, so the figures do not depend on the meshing).
-struct DistanceStats {
+struct SurfaceDistanceStats {
   double meanMm = 0;
   double p95Mm = 0;  // area-weighted 95th percentile
   double maxMm = 0;
@@ -19,8 +19,8 @@ struct DistanceStats {
 };
 
 struct MeshComparison {
-  DistanceStats aToB;         // vertices of A to the surface of B
-  DistanceStats bToA;         // vertices of B to the surface of A
+  SurfaceDistanceStats aToB;  // vertices of A to the surface of B
+  SurfaceDistanceStats bToA;  // vertices of B to the surface of A
   Eigen::VectorXd distanceA;  // #V_A, metres: each vertex of A to B (for colouring A)
   Eigen::VectorXd distanceB;  // #V_B, metres
   // max(aToB.meanMm, bToA.meanMm) etc.: the symmetric (Hausdorff-like) figures.
@@ -34,6 +34,6 @@ struct MeshComparison {
 MeshComparison compareMeshes(const TriMesh& a, const TriMesh& b);
 
 // Area-weighted statistics of per-vertex distances (metres) on `mesh`; #V distances.
-DistanceStats distanceStats(const TriMesh& mesh, const Eigen::VectorXd& distance);
+SurfaceDistanceStats distanceStats(const TriMesh& mesh, const Eigen::VectorXd& distance);
 
 }  // namespace s2p

@@ -128,11 +128,19 @@ class ClothSim {
   // Per-step state of the schedule.
   Vector3d gravity_ = Vector3d::Zero();
   double damping_ = 0;
+  double friction_ = 0;
   std::vector<double> stitchStart_;  // metres: each stitch's gap at the start
+  std::vector<char> sewn_;           // 1 once a stitch's partners met: welded from then on
+  std::vector<double> stitchEdge_;   // metres: the rest length of the seam's edges at a stitch
+  std::vector<char> merged_;         // 1 once a sewn stitch's partners are one particle
+  std::vector<int> part_;            // the particle each vertex is (itself until welded)
+  std::vector<double> mass_;         // kg per particle (0: merged into another, or unreferenced)
+  Eigen::MatrixX3i Fsim_;            // F_ on particles (what contacts are found against)
   double sewTime_ = 0;               // seconds of sewing so far (both phases)
   double dts_ = 0;
   long long solves_ = 0;
   double lastStepSpeed_ = 0;  // m/s, fastest vertex over the last step
+  double peakStrain_ = 1;     // largest triangle stretch seen at the end of a step
 
   void build(const DrapeInput& input);
   bool step(std::string& why);
@@ -140,6 +148,10 @@ class ClothSim {
   void solveTriangle(const TriangleConstraint& c, double* lambda);
   void solveBend(const BendConstraint& c, Vector3d& lambda);
   void solveStitches();
+  int sewClosedStitches();
+  void weldSewn();
+  void recolour();
+  void syncMerged();
   void solveContacts();
   void solveBody(int v);
   void findContacts();
@@ -197,6 +209,10 @@ void ClothSim::build(const DrapeInput& input) {
   meanEdge_ = nf > 0 ? edgeSum / (3.0 * nf) : 0.01;
   w_.resize(nv_);
   for (int v = 0; v < nv_; ++v) w_[v] = mass[v] > 0 ? 1.0 / mass[v] : 0.0;
+  mass_ = mass;
+  part_.resize(nv_);
+  std::iota(part_.begin(), part_.end(), 0);
+  Fsim_ = F_;
 
   // Bending: interior edges of each panel (seams are hinges).
   struct HalfEdge {
@@ -237,13 +253,30 @@ void ClothSim::build(const DrapeInput& input) {
     bends_.push_back(c);
   }
 
+  // Rest length of the boundary edges at each vertex (mean), for the stitches' pull.
+  std::vector<double> boundaryLength(nv_, 0.0);
+  std::vector<int> boundaryEdges(nv_, 0);
+  for (size_t i = 0; i < he.size();) {
+    size_t j = i + 1;
+    while (j < he.size() && he[j].a == he[i].a && he[j].b == he[i].b) ++j;
+    if (j - i == 1) {
+      const double l = (rest[he[i].a] - rest[he[i].b]).norm();
+      for (int v : {he[i].a, he[i].b}) boundaryLength[v] += l, ++boundaryEdges[v];
+    }
+    i = j;
+  }
+  auto edgeAt = [&](int v) {
+    return boundaryEdges[v] > 0 ? boundaryLength[v] / boundaryEdges[v] : meanEdge_;
+  };
+
   // Stitches and the welded vertex graph (partners are one point once sewn).
   weld_.resize(nv_);
   std::iota(weld_.begin(), weld_.end(), 0);
-  for (const Stitch& s : input.stitches) {
+  for (const ClothStitch& s : input.stitches) {
     const int a = result_.panelOffset[s.panelA] + s.vertexA;
     const int b = result_.panelOffset[s.panelB] + s.vertexB;
     stitches_.emplace_back(a, b);
+    stitchEdge_.push_back(0.5 * (edgeAt(a) + edgeAt(b)));
     const int ra = findRoot(weld_, a), rb = findRoot(weld_, b);
     if (ra != rb) weld_[std::max(ra, rb)] = std::min(ra, rb);
   }
@@ -263,20 +296,7 @@ void ClothSim::build(const DrapeInput& input) {
   adj_.resize(edges.size());
   for (size_t i = 0; i < edges.size(); ++i) adj_[i] = edges[i].second;
 
-  // Colours for the parallel Gauss–Seidel sweeps.
-  triColours_ = colourConstraints(
-      static_cast<int>(tris_.size()), nv_,
-      [&](int c) {
-        return std::array<int, 3>{tris_[c].v[0], tris_[c].v[1], tris_[c].v[2]};
-      },
-      triSerialLast_);
-  bendColours_ = colourConstraints(
-      static_cast<int>(bends_.size()), nv_,
-      [&](int c) {
-        const auto& b = bends_[c];
-        return std::array<int, 4>{b.v[0], b.v[1], b.v[2], b.v[3]};
-      },
-      bendSerialLast_);
+  recolour();
   triLambda_.assign(3 * tris_.size(), 0.0);
   bendLambda_.assign(bends_.size(), Vector3d::Zero());
   result_.numConstraints = static_cast<int>(tris_.size() + bends_.size() + stitches_.size());
@@ -319,6 +339,8 @@ void ClothSim::build(const DrapeInput& input) {
   xprev_ = x_;
   xstep_ = x_;
   for (const auto& [a, b] : stitches_) stitchStart_.push_back((x_[a] - x_[b]).norm());
+  sewn_.assign(stitches_.size(), 0);
+  merged_.assign(stitches_.size(), 0);
 }
 
 template <class Solve>
@@ -393,28 +415,124 @@ void ClothSim::solveBend(const BendConstraint& c, Vector3d& lambda) {
   for (int i = 0; i < 4; ++i) x_[c.v[i]] += w_[c.v[i]] * c.k[i] * dl;
 }
 
-// Stitches: the distance of each pair is held at most max(0, L0 − sewSpeed·t), L0 its
-// distance at the start: seams close at sewSpeed, and are hard zero-length constraints after.
+// Colours for the parallel Gauss–Seidel sweeps (again after every weld: particles changed).
+void ClothSim::recolour() {
+  triColours_ = colourConstraints(
+      static_cast<int>(tris_.size()), nv_,
+      [&](int c) {
+        return std::array<int, 3>{tris_[c].v[0], tris_[c].v[1], tris_[c].v[2]};
+      },
+      triSerialLast_);
+  bendColours_ = colourConstraints(
+      static_cast<int>(bends_.size()), nv_,
+      [&](int c) {
+        const auto& b = bends_[c];
+        return std::array<int, 4>{b.v[0], b.v[1], b.v[2], b.v[3]};
+      },
+      bendSerialLast_);
+}
+
+// Merges the partners of newly sewn stitches into one particle (masses summed, position and
+// velocity mass-weighted) and puts every constraint on the particles. A sewn seam is one line of
+// cloth: both panels' triangles act on the same particles, and its gap is exactly zero (a
+// projection of the partners to their mean after the triangles leaves each substep's last
+// triangle correction between them).
+void ClothSim::weldSewn() {
+  bool changed = false;
+  for (size_t i = 0; i < stitches_.size(); ++i) {
+    if (!sewn_[i] || merged_[i]) continue;
+    merged_[i] = 1;
+    int a = findRoot(part_, stitches_[i].first), b = findRoot(part_, stitches_[i].second);
+    if (a == b) continue;
+    if (b < a) std::swap(a, b);
+    const double m = mass_[a] + mass_[b];
+    if (!(m > 0)) continue;
+    x_[a] = (mass_[a] * x_[a] + mass_[b] * x_[b]) / m;
+    vel_[a] = (mass_[a] * vel_[a] + mass_[b] * vel_[b]) / m;
+    xprev_[a] = (mass_[a] * xprev_[a] + mass_[b] * xprev_[b]) / m;
+    mass_[a] = m;
+    mass_[b] = 0;
+    w_[a] = 1.0 / m;
+    w_[b] = 0;
+    part_[b] = a;
+    changed = true;
+  }
+  if (!changed) return;
+  for (int v = 0; v < nv_; ++v) part_[v] = findRoot(part_, v);
+  for (int f = 0; f < Fsim_.rows(); ++f)
+    for (int k = 0; k < 3; ++k) Fsim_(f, k) = part_[F_(f, k)];
+  // A stitch between two vertices of one triangle (or bending stencil) collapses it: dropped.
+  std::vector<TriangleConstraint> tris;
+  for (TriangleConstraint c : tris_) {
+    for (int& v : c.v) v = part_[v];
+    if (c.v[0] != c.v[1] && c.v[1] != c.v[2] && c.v[0] != c.v[2]) tris.push_back(c);
+  }
+  tris_.swap(tris);
+  std::vector<BendConstraint> bends;
+  for (BendConstraint c : bends_) {
+    for (int& v : c.v) v = part_[v];
+    bool distinct = true;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) distinct = distinct && c.v[i] != c.v[j];
+    if (distinct) bends.push_back(c);
+  }
+  bends_.swap(bends);
+  recolour();
+  triLambda_.assign(3 * tris_.size(), 0.0);
+  bendLambda_.assign(bends_.size(), Vector3d::Zero());
+  syncMerged();
+}
+
+// Vertices merged into another particle take its position.
+void ClothSim::syncMerged() {
+  for (int v = 0; v < nv_; ++v)
+    if (part_[v] != v) x_[v] = x_[part_[v]];
+}
+
+// Sewing (a seam is sewn once its partners meet, as in GarmentCode's and the commercial tools'
+// simulators). An open stitch holds its partners at most max(0, L0 − sewSpeed·t) apart (L0 their
+// start distance: seams close at sewSpeed), but pulls them by at most sewPull of its seam's edge
+// length per substep beyond where the cloth left them. A hard schedule alone runs ahead of a
+// cloth that has to be dragged (over a shoulder, around the body): the stitched row is then
+// torn from the next one (3× at 10 mm, where a substep's single sweep moves the cloth a
+// shorter way); bounded, the row leads the cloth by at most a fraction of an edge. A stitch
+// whose gap fell below sewTolerance is sewn: its partners become one particle (weldSewn).
 void ClothSim::solveStitches() {
   for (size_t i = 0; i < stitches_.size(); ++i) {
-    const auto [a, b] = stitches_[i];
+    if (merged_[i]) continue;
+    const int a = part_[stitches_[i].first], b = part_[stitches_[i].second];
     const double wsum = w_[a] + w_[b];
-    if (wsum <= 0) continue;
+    if (a == b || wsum <= 0) continue;
     const Vector3d d = x_[b] - x_[a];
     const double len = d.norm();
     const double target = std::max(0.0, stitchStart_[i] - o_.sewSpeed * sewTime_);
     if (len <= target) continue;
-    const double s = (len - target) / len;
-    x_[a] += (w_[a] / wsum * s) * d;
-    x_[b] -= (w_[b] / wsum * s) * d;
+    const double pull = std::min(len - target, o_.sewPull * stitchEdge_[i]);
+    const double s = pull / len / wsum;
+    x_[a] += (w_[a] * s) * d;
+    x_[b] -= (w_[b] * s) * d;
   }
+}
+
+// Stitches whose partners met are sewn (welded from then on); the number still open.
+int ClothSim::sewClosedStitches() {
+  int open = 0;
+  for (size_t i = 0; i < stitches_.size(); ++i) {
+    if (sewn_[i]) continue;
+    const auto [a, b] = stitches_[i];
+    if ((x_[a] - x_[b]).norm() < o_.sewTolerance)
+      sewn_[i] = 1;
+    else
+      ++open;
+  }
+  return open;
 }
 
 // Self-collision: keep each found vertex on its side of its triangle, selfThickness away.
 void ClothSim::solveContacts() {
   const double h = o_.selfThickness;
   for (const Contact& c : contacts_) {
-    const int i0 = F_(c.t, 0), i1 = F_(c.t, 1), i2 = F_(c.t, 2);
+    const int i0 = Fsim_(c.t, 0), i1 = Fsim_(c.t, 1), i2 = Fsim_(c.t, 2);
     const Vector3d &a = x_[i0], &b = x_[i1], &cc = x_[i2], &p = x_[c.v];
     const Vector3d nn = (b - a).cross(cc - a);
     const double area2 = nn.norm();
@@ -456,7 +574,7 @@ void ClothSim::solveBody(int v) {
   const Vector3d dx = x_[v] - xprev_[v];
   const Vector3d tangential = dx - dx.dot(s.normal) * s.normal;
   const double lt = tangential.norm();
-  if (lt > 0) x_[v] -= tangential * std::min(o_.friction * pen / lt, 1.0);
+  if (lt > 0) x_[v] -= tangential * std::min(friction_ * pen / lt, 1.0);
 }
 
 // Vertex–triangle pairs closer than the distance they could close within this step, from a
@@ -505,7 +623,7 @@ void ClothSim::findContacts() {
     const int f1 = static_cast<int>(int64_t(nf) * (chunk + 1) / kChunks);
     std::vector<Contact>& out = found[chunk];
     for (int f = f0; f < f1; ++f) {
-      const int t[3] = {F_(f, 0), F_(f, 1), F_(f, 2)};
+      const int t[3] = {Fsim_(f, 0), Fsim_(f, 1), Fsim_(f, 2)};
       const int r[3] = {weld_[t[0]], weld_[t[1]], weld_[t[2]]};
       const Vector3d &a = x_[t[0]], &b = x_[t[1]], &c = x_[t[2]];
       const Vector3d nn = (b - a).cross(c - a);
@@ -589,6 +707,7 @@ bool ClothSim::step(std::string& why) {
     if (s % o_.selfCollisionPeriod == 0) findContacts();
     substep();
   }
+  syncMerged();
   double maxSpeed = 0;
   bool finiteState = true, inScene = true;
   for (int v = 0; v < nv_; ++v) {
@@ -621,6 +740,7 @@ bool ClothSim::step(std::string& why) {
         std::max((e1 * c.d00 + e2 * c.d10).norm(), (e1 * c.d01 + e2 * c.d11).norm());
     if (strain > maxStrain) maxStrain = strain, worst = static_cast<int>(t);
   }
+  peakStrain_ = std::max(peakStrain_, maxStrain);
   if (maxStrain > o_.explodeStrain) {
     const Vector3d& p = x_[tris_[worst].v[0]];
     why = fmt::format(
@@ -658,6 +778,7 @@ void ClothSim::run() {
   // Phase 1: sew, gravity off, seams closing at most sewSpeed.
   gravity_.setZero();
   damping_ = o_.sewDamping;
+  friction_ = o_.sewFriction;
   if (stitches_.empty()) {
     r.warnings.push_back(
         fmt::format("drape: the pattern has no stitches; the panels are draped unsewn"));
@@ -667,7 +788,9 @@ void ClothSim::run() {
     while (r.sewSteps < o_.sewMaxSteps) {
       ++r.sewSteps;
       if (!doStep()) break;
-      if (stitchGap(nullptr) < o_.sewTolerance) {
+      const int open = sewClosedStitches();
+      weldSewn();
+      if (open == 0) {
         if (++closedFor >= o_.sewSettleSteps) break;
       } else {
         closedFor = -1;
@@ -681,16 +804,21 @@ void ClothSim::run() {
           o_.sewMaxSteps, 1e3 * stitchGap(nullptr)));
   }
 
+  r.maxSewStrain = peakStrain_;
+
   // Phase 2: drape under gravity until every vertex is slower than restSpeed for restSteps.
   if (ok) {
     gravity_ = o_.gravity;
     damping_ = o_.damping;
+    friction_ = o_.friction;
     // Stitches keep closing at sewSpeed: a seam still open after the sewing budget does not snap.
     for (Vector3d& v : vel_) v.setZero();
     int calm = 0;
     while (r.drapeSteps < o_.drapeMaxSteps) {
       ++r.drapeSteps;
       if (!doStep()) break;
+      sewClosedStitches();
+      weldSewn();
       calm = lastStepSpeed_ < o_.restSpeed ? calm + 1 : 0;
       if (calm >= o_.restSteps && r.drapeSteps >= o_.drapeMinSteps) {
         r.settled = true;
@@ -714,6 +842,8 @@ void ClothSim::run() {
     r.panels.push_back(
         r.garment.V.middleRows(r.panelOffset[p], r.panelOffset[p + 1] - r.panelOffset[p]));
   r.maxStitchGap = stitchGap(&r.meanStitchGap);
+  r.maxStrain = peakStrain_;
+  for (char sewn : merged_) r.sewnStitches += sewn;
   // Penetrations with the exact distance where the grid says the vertex is near or inside.
   std::vector<double> depth(nv_, 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, nv_, 256), [&](const tbb::blocked_range<int>& rr) {
@@ -765,7 +895,7 @@ void validate(const DrapeInput& in, const DrapeOptions& o) {
                                    panel.numVertices() - 1));
   }
   for (size_t i = 0; i < in.stitches.size(); ++i) {
-    const Stitch& s = in.stitches[i];
+    const ClothStitch& s = in.stitches[i];
     const int np = static_cast<int>(in.panels.size());
     auto bad = [&](int panel, int vertex) {
       return panel < 0 || panel >= np || vertex < 0 || vertex >= in.panels[panel].numVertices();
@@ -787,8 +917,9 @@ void validate(const DrapeInput& in, const DrapeOptions& o) {
       !nonNegative(o.bendingCompliance) || !positive(o.density))
     throw InputError("drape: compliances must be ≥ 0 and the density > 0");
   if (!nonNegative(o.bodyThickness) || !nonNegative(o.selfThickness) || !nonNegative(o.friction) ||
-      !nonNegative(o.damping) || !nonNegative(o.sewDamping) || !positive(o.maxSpeed) ||
-      !positive(o.sewSpeed) || !positive(o.sewTolerance) || !o.gravity.allFinite())
+      !nonNegative(o.sewFriction) || !nonNegative(o.damping) || !nonNegative(o.sewDamping) ||
+      !positive(o.maxSpeed) || !positive(o.sewSpeed) || !positive(o.sewPull) ||
+      !positive(o.sewTolerance) || !o.gravity.allFinite())
     throw InputError(
         "drape: thicknesses, friction, damping must be ≥ 0; speeds and the sewing "
         "tolerance > 0; gravity finite");

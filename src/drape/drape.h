@@ -9,8 +9,9 @@
 //   along the pattern's x (weft) and y (warp) directions and F·u·F·v for shear;
 // - bending: the isometric bending model (Bergou et al. 2006) around the flat rest state, a
 //   linear vector constraint per interior edge;
-// - sewing: partner vertices pulled together, a hard constraint on their distance whose limit
-//   shrinks from the start gap to 0 at sewSpeed, so seams close gradually instead of snapping;
+// - sewing: partner vertices drawn together as the seam's limit shrinks from the start gap to 0
+//   at sewSpeed, by at most sewPull of an edge per substep beyond where the cloth left them (a
+//   pull that never runs ahead of the cloth); once they meet they are one particle;
 // - body: signed distance ≥ thickness (BodySdf), Coulomb friction on the tangential motion;
 // - self-collision: vertex–triangle proximity (spatial hash, found anew
 //   every few substeps, side kept from the search), thickness selfThickness.
@@ -46,14 +47,16 @@ struct DrapeOptions {
 
   // === Collision
   double bodyThickness = 0.0025;  // metres kept between the cloth and the body
-  double friction = 0.3;          // Coulomb coefficient against the body
+  double friction = 0.3;          // Coulomb coefficient against the body while draping
+  double sewFriction = 0.0;       // ... while sewing: the panels slide into place over the body
   double sdfVoxel = 0.004;        // metres, body SDF grid
   bool selfCollision = true;
   double selfThickness = 0.003;  // metres between two layers of cloth
   int selfCollisionPeriod = 3;   // substeps between two searches for vertex–triangle contacts
 
   // === Schedule (GarmentCode's): sew, then drape
-  double sewSpeed = 0.5;        // m/s: fastest a stitch closes
+  double sewSpeed = 0.5;  // m/s: seams close at most this fast (from their start gap)
+  double sewPull = 0.25;  // an open stitch pulls at most this fraction of its edge per substep
   double sewTolerance = 0.001;  // metres: the seams are closed when every gap is below it
   int sewMaxSteps = 600;        // step budget of the sewing phase
   int sewSettleSteps = 10;      // steps sewing goes on once the seams are closed
@@ -95,6 +98,9 @@ struct DrapeResult {
   bool settled = false;            // at rest before the drape budget ran out
   double maxStitchGap = 0;         // metres, at the end
   double meanStitchGap = 0;        // metres
+  int sewnStitches = 0;            // stitches whose partners met and became one particle
+  double maxSewStrain = 1;         // largest triangle stretch (× pattern size) while sewing
+  double maxStrain = 1;            // ... over the whole run
   int bodyPenetrations = 0;        // vertices inside the body (exact distance < 0)
   double maxPenetration = 0;       // metres, deepest
   int startInsideBody = 0;         // vertices that started inside the body

@@ -13,7 +13,7 @@ TEST(CompareMeshes, ParallelPlanesAreTheirOffsetApartBothWays) {
   TriMesh b = makeGrid(13, 17, 0.5, 0.5);  // other meshing, same square
   b.V.col(2).array() += 0.01;
   const MeshComparison c = compareMeshes(a, b);
-  for (const DistanceStats* s : {&c.aToB, &c.bToA}) {
+  for (const SurfaceDistanceStats* s : {&c.aToB, &c.bToA}) {
     EXPECT_NEAR(s->meanMm, 10.0, 1e-6);
     EXPECT_NEAR(s->p95Mm, 10.0, 1e-6);
     EXPECT_NEAR(s->maxMm, 10.0, 1e-6);
