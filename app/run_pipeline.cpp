@@ -4,11 +4,10 @@
 
 #include <chrono>
 
-#include "core/error.h"
-
 #include "app/fit_output.h"
 #include "app/pattern_files.h"
 #include "app/pattern_output.h"
+#include "core/error.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -22,8 +21,10 @@ json segmentationSummary(const Segmentation& s) {
     garments.push_back({{"name", g.name}, {"occluded", g.occluded}, {"faces", g.mesh.numFaces()}});
   json boundaries = json::array();
   for (const BoundaryReport& b : s.boundaries)
-    boundaries.push_back({{"name", b.name}, {"iterations", b.iterations},
-                          {"converged", b.converged}, {"curves", b.finalCurves.size()}});
+    boundaries.push_back({{"name", b.name},
+                          {"iterations", b.iterations},
+                          {"converged", b.converged},
+                          {"curves", b.finalCurves.size()}});
   return {{"layout", toString(s.layout)},
           {"one_piece", s.layout == GarmentLayout::OnePiece},
           {"occlusion", toString(s.occlusion)},
@@ -61,7 +62,8 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
   for (const GarmentPanels& g : run.pattern.panels.garments) {
     json panels = json::array();
     for (int p : g.panels) panels.push_back(run.pattern.panels.panels[p].name);
-    pattern.push_back({{"garment", g.name}, {"type", g.type}, {"panels", panels}, {"notes", g.notes}});
+    pattern.push_back(
+        {{"garment", g.name}, {"type", g.type}, {"panels", panels}, {"notes", g.notes}});
   }
   json stages = json::array();
   stages.push_back({{"stage", "read"}, {"seconds", scan.read.seconds}});
@@ -72,27 +74,31 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
   return {{"scan", scan.scan.sourcePath},
           {"model", model.source},
           {"stages", stages},
-          {"fit", {{"timings", fitTimings},
-                   {"yaw_degrees", fit.orientation.yaw * 180 / M_PI},
-                   {"orientation_confidence", fit.orientation.confidence},
-                   {"initialisation", fit.initialisation},
-                   {"inside_or_within_5mm", fit.fit.insideOrNear}}},
+          {"fit",
+           {{"timings", fitTimings},
+            {"yaw_degrees", fit.orientation.yaw * 180 / M_PI},
+            {"orientation_confidence", fit.orientation.confidence},
+            {"initialisation", fit.initialisation},
+            {"inside_or_within_5mm", fit.fit.insideOrNear}}},
           {"found", segmentationSummary(seg)},
           {"pattern", pattern},
           {"pattern_error", run.patternErrorMessage},
           {"flat_pattern", flatPatternToJson(run.pattern.panels, run.pattern.flat)},
           {"placement", placementToJson(run.pattern)},
           {"warnings", warnings},
-          {"outputs", {{"fit", "fit/: body_fit.obj, body_full.obj, body.json, fit_front.png, "
-                               "fit_side.png"},
-                       {"segment", "segment/: segmentation.ply, " + garmentFileList(seg) +
-                                       "garments.json, boundaries.json, segment_boundaries.png, "
-                                       "segment_labels.png"},
-                       {"pattern", "pattern/: pattern.json (GarmentCode), pattern.svg, "
-                                   "pattern.pdf, pattern.dxf, pattern.png, panels.obj, "
-                                   "stitches.json, body_rest.obj, panels.json, panels_3d.obj, "
-                                   "panels.png, flat.json, panels_flat.obj, "
-                                   "pattern_strain.png"}}}};
+          {"outputs",
+           {{"fit",
+             "fit/: body_fit.obj, body_full.obj, body.json, fit_front.png, "
+             "fit_side.png"},
+            {"segment", "segment/: segmentation.ply, " + garmentFileList(seg) +
+                            "garments.json, boundaries.json, segment_boundaries.png, "
+                            "segment_labels.png"},
+            {"pattern",
+             "pattern/: pattern.json (GarmentCode), pattern.svg, "
+             "pattern.pdf, pattern.dxf, pattern.png, panels.obj, "
+             "stitches.json, body_rest.obj, panels.json, panels_3d.obj, "
+             "panels.png, flat.json, panels_flat.obj, "
+             "pattern_strain.png"}}}};
 }
 
 void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& model,
@@ -100,13 +106,20 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
   progress.begin("write outputs");
   writeFit(dir / "fit", scan.scan, model, run.fit);
   writeSegmentation(dir / "segment", scan.scan, run.segment);
+  // A pattern file that cannot be written still leaves report.json beside fit/ and segment/.
+  std::exception_ptr writeError;
   if (!run.patternError) {
-    writePanels(dir / "pattern", scan.scan, run.pattern.panels);
-    writeFlatPattern(dir / "pattern", scan.scan, run.pattern.panels, run.pattern.flat);
-    writePatternFiles(dir / "pattern", scan.scan, run.pattern, print);
+    try {
+      writePanels(dir / "pattern", scan.scan, run.pattern.panels);
+      writeFlatPattern(dir / "pattern", scan.scan, run.pattern.panels, run.pattern.flat);
+      writePatternFiles(dir / "pattern", scan.scan, run.pattern, print);
+    } catch (const Error&) {
+      writeError = std::current_exception();
+    }
   }
   writeJson(dir / "report.json", runReport(scan, model, run));
   progress.end();
+  if (writeError) std::rethrow_exception(writeError);
 }
 
 void printRun(const RunOutput& run, const fs::path& dir) {
@@ -115,11 +128,12 @@ void printRun(const RunOutput& run, const fs::path& dir) {
   printPanels(run.pattern.panels);
   printFlatPattern(run.pattern.panels, run.pattern.flat);
   printPatternFiles(run.pattern);
-  fmt::print("wrote {0}/report.json; pictures: {0}/fit/fit_front.png, {0}/fit/fit_side.png, "
-             "{0}/segment/segment_boundaries.png, {0}/segment/segment_labels.png, "
-             "{0}/pattern/panels.png, {0}/pattern/pattern_strain.png; the pattern: "
-             "{0}/pattern/pattern.png, pattern.pdf, pattern.svg, pattern.dxf, pattern.json\n",
-             dir.string());
+  fmt::print(
+      "wrote {0}/report.json; pictures: {0}/fit/fit_front.png, {0}/fit/fit_side.png, "
+      "{0}/segment/segment_boundaries.png, {0}/segment/segment_labels.png, "
+      "{0}/pattern/panels.png, {0}/pattern/pattern_strain.png; the pattern: "
+      "{0}/pattern/pattern.png, pattern.pdf, pattern.svg, pattern.dxf, pattern.json\n",
+      dir.string());
 }
 
 }  // namespace s2p::app

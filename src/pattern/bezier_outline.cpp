@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "core/error.h"
 
@@ -462,6 +463,43 @@ BezierChain splitChainAt(const BezierChain& chain, std::vector<double> fractions
     out.segments.push_back(rest);
     start = end;
   }
+  return out;
+}
+
+BezierChain scaledAcrossChord(const BezierChain& chain, double s) {
+  const Eigen::Vector2d a = chain.segments.front().p[0];
+  const Eigen::Vector2d u = (chain.segments.back().p[3] - a).normalized();
+  BezierChain out = chain;
+  for (CubicBezier& b : out.segments)
+    for (Eigen::Vector2d& x : b.p) {
+      const Eigen::Vector2d along = a + u * u.dot(x - a);
+      x = along + s * (x - along);
+    }
+  // The ends lie on the chord: kept bit for bit (they are corners the next edge starts from).
+  out.segments.front().p[0] = chain.segments.front().p[0];
+  out.segments.back().p[3] = chain.segments.back().p[3];
+  return out;
+}
+
+std::optional<BezierChain> walkChainToLength(const BezierChain& chain, double target,
+                                             double limit) {
+  if (chain.segments.empty()) return std::nullopt;
+  const Eigen::Vector2d a = chain.segments.front().p[0], b = chain.segments.back().p[3];
+  if ((b - a).norm() < 1e-9) return std::nullopt;
+  double lo = 0.0, hi = 4.0;
+  if (scaledAcrossChord(chain, lo).length() > target ||
+      scaledAcrossChord(chain, hi).length() < target)
+    return std::nullopt;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (scaledAcrossChord(chain, mid).length() < target ? lo : hi) = mid;
+  }
+  BezierChain out = scaledAcrossChord(chain, 0.5 * (lo + hi));
+  double moved = 0;
+  for (int k = 0; k < chain.size(); ++k)
+    for (int i = 0; i < 4; ++i)
+      moved = std::max(moved, (out.segments[k].p[i] - chain.segments[k].p[i]).norm());
+  if (moved > limit) return std::nullopt;
   return out;
 }
 

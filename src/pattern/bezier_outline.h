@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,5 +80,14 @@ double maxDeviation(const BezierChain& chain, const Eigen::MatrixX2d& polyline);
 
 // Distance from p to the chain (closest point by sampling and Newton refinement).
 double distanceToChain(const BezierChain& chain, const Eigen::Vector2d& p);
+
+// The chain under the affine map that keeps its chord (first to last point) and scales every
+// offset from it by s: control points map to control points, so joints stay G1 and the ends stay.
+BezierChain scaledAcrossChord(const BezierChain& chain, double s);
+
+// Seam walking: the chain scaled across its chord (above) to `target` arc length, by bisection on
+// s ∈ [0, 4] (the length grows with s: |B'|² = a² + s²b² in the chord's frame); nullopt when no
+// such s reaches it or a control point would move by more than `limit` (m).
+std::optional<BezierChain> walkChainToLength(const BezierChain& chain, double target, double limit);
 
 }  // namespace s2p

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
+#include <optional>
 
 #include "core/error.h"
 #include "pattern/uv_locator.h"
@@ -131,21 +133,30 @@ void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
                       panels.panels[p].name, panels.panels[p].garment, failures[p]));
 }
 
-// The outline as the remesher will see it: each edge's chain resampled at its count, the last
-// sample of each edge left to the next edge's first.
+// The outline as the remesher will see it (each edge's chain resampled at its count, the last
+// sample of each edge left to the next edge's first) and as the print draws it (a sample every
+// kPrintSpacing): a crossing at either resolution is one.
 bool outlineSelfIntersects(const FlatPanel& fp, const std::vector<int>& counts) {
-  std::vector<Eigen::Vector2d> pts;
-  for (size_t e = 0; e < fp.edges.size(); ++e) {
-    const Eigen::MatrixX2d s = resampleChain(fp.edges[e].chain, counts[e]);
-    for (int i = 0; i + 1 < s.rows(); ++i) pts.push_back(s.row(i).transpose());
+  constexpr double kPrintSpacing = 0.002;  // m, finer than the print's 3 mm sew-line samples
+  for (const bool fine : {false, true}) {
+    std::vector<Eigen::Vector2d> pts;
+    for (size_t e = 0; e < fp.edges.size(); ++e) {
+      const BezierChain& c = fp.edges[e].chain;
+      const int count =
+          fine ? std::max(2, static_cast<int>(std::ceil(c.length() / kPrintSpacing)) + 1)
+               : counts[e];
+      const Eigen::MatrixX2d s = resampleChain(c, count);
+      for (int i = 0; i + 1 < s.rows(); ++i) pts.push_back(s.row(i).transpose());
+    }
+    Eigen::MatrixX2d polygon(static_cast<int>(pts.size()), 2);
+    std::vector<int> loop(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+      polygon.row(static_cast<int>(i)) = pts[i].transpose();
+      loop[i] = static_cast<int>(i);
+    }
+    if (polygonSelfIntersects(polygon, loop)) return true;
   }
-  Eigen::MatrixX2d polygon(static_cast<int>(pts.size()), 2);
-  std::vector<int> loop(pts.size());
-  for (size_t i = 0; i < pts.size(); ++i) {
-    polygon.row(static_cast<int>(i)) = pts[i].transpose();
-    loop[i] = static_cast<int>(i);
-  }
-  return polygonSelfIntersects(polygon, loop);
+  return false;
 }
 
 // `iterations` steps of uniform Laplacian smoothing (λ = ½) of an open polyline, ends fixed:
@@ -181,6 +192,50 @@ int untangleOpenings(const Panel& panel, const std::vector<int>& counts,
     if (!outlineSelfIntersects(fp, counts)) return iterations;
   }
   return -1;
+}
+
+// Seam walking (FlatPatternOptions::walkSeams): both chains of a pair to their mean length; a
+// panel whose outline the walked chains make cross itself gets its own chains back.
+void walkSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
+               const FlatPatternOptions& options, FlatPatternResult& r) {
+  std::vector<std::vector<FlatEdge>> before(r.panels.size());
+  for (size_t p = 0; p < r.panels.size(); ++p) before[p] = r.panels[p].edges;
+  int walked = 0;
+  for (const SeamPair& s : pairs) {
+    FlatPanel& fa = r.panels[s.panelA];
+    FlatPanel& fb = r.panels[s.panelB];
+    if (!fa.error.empty() || !fb.error.empty()) continue;
+    BezierChain& ca = fa.edges[s.edgeA].chain;
+    BezierChain& cb = fb.edges[s.edgeB].chain;
+    const double la = ca.length(), lb = cb.length(), mean = 0.5 * (la + lb);
+    if (std::abs(la - lb) < 1e-5) continue;
+    const auto wa = walkChainToLength(ca, mean, options.walkLimit);
+    const auto wb = walkChainToLength(cb, mean, options.walkLimit);
+    if (!wa || !wb) continue;
+    ca = *wa;
+    cb = *wb;
+    ++walked;
+  }
+  if (walked == 0) return;
+  const double target = options.remesh.targetEdgeLength;
+  for (size_t p = 0; p < r.panels.size(); ++p) {
+    FlatPanel& fp = r.panels[p];
+    if (!fp.error.empty()) continue;
+    std::vector<int> counts, countsBefore;
+    for (size_t e = 0; e < fp.edges.size(); ++e) {
+      counts.push_back(boundarySampleCount(fp.edges[e].chain.length(), target));
+      countsBefore.push_back(boundarySampleCount(before[p][e].chain.length(), target));
+    }
+    FlatPanel unwalked;
+    unwalked.edges = before[p];
+    if (outlineSelfIntersects(fp, counts) && !outlineSelfIntersects(unwalked, countsBefore)) {
+      fp.edges = before[p];
+      r.warnings.push_back(
+          fmt::format("panel '{}' of {}: its seams not walked to their partners' "
+                      "lengths (the outline would cross itself)",
+                      panels.panels[p].name, panels.panels[p].garment));
+    }
+  }
 }
 
 void remesh(const Panel& panel, const TriMesh& scan, const std::vector<int>& counts,
@@ -245,6 +300,7 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
   if (options.trueSeams) trueSeams(panels, pairs, options, r);
   for (size_t p = 0; p < panels.panels.size(); ++p)
     if (r.panels[p].error.empty()) outline(panels.panels[p], options, r.panels[p]);
+  if (options.walkSeams) walkSeams(panels, pairs, options, r);
   // Sample counts: a stitched pair shares the count of its mean 2D length, so that a simulator
   // can pair the two edges vertex to vertex.
   std::vector<std::vector<int>> counts(panels.panels.size());

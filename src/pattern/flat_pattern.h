@@ -29,6 +29,12 @@ struct FlatPatternOptions {
   // suite's partner edges differed by 3.7 mm (median) after the warp/weft refinement.
   bool trueSeams = true;
   SeamTruing truing;
+  // Seam walking: where truing left the two sides' Bézier chains of a seam apart, each is
+  // stretched or flattened across its chord (an affine map: corners and G1 joints kept) to the
+  // pair's mean length, when that moves no point of it by more than walkLimit (metres) and leaves
+  // the outline simple.
+  bool walkSeams = true;
+  double walkLimit = 0.01;
   BezierFitOptions bezier;  // 1 mm by default
   RemeshOptions remesh;     // 10 mm target edge, ≥ 20.7°
 };
@@ -41,17 +47,17 @@ struct FlatEdge {
 };
 
 struct FlatPanel {
-  int panel = -1;  // index into PanelsResult::panels
+  int panel = -1;                                    // index into PanelsResult::panels
   Eigen::Vector3d grain = Eigen::Vector3d::UnitY();  // the 3D direction that maps to +y
   Eigen::MatrixX2d uv;                               // #V of the 3D panel × 2, metres
   PanelFlattening flattening;
-  FlatteningMetrics metrics;  // of uv against the 3D panel
+  FlatteningMetrics metrics;    // of uv against the 3D panel
   std::vector<FlatEdge> edges;  // as Panel::edges
   RemeshedPanel remeshed;
-  Eigen::MatrixX3d position;            // #V of the remeshed panel × 3: its point on the 3D panel
-  std::vector<SurfacePoint> location;   // #V of the remeshed panel: where in the 3D panel
-  Eigen::VectorXi scanFace;             // #V of the remeshed panel: the scan face it lies in
-  Eigen::MatrixX3d scanBary;            // #V × 3: its barycentric weights in that scan face
+  Eigen::MatrixX3d position;           // #V of the remeshed panel × 3: its point on the 3D panel
+  std::vector<SurfacePoint> location;  // #V of the remeshed panel: where in the 3D panel
+  Eigen::VectorXi scanFace;            // #V of the remeshed panel: the scan face it lies in
+  Eigen::MatrixX3d scanBary;           // #V × 3: its barycentric weights in that scan face
   double seconds = 0;
   std::string error;  // non-empty: this panel could not be flattened (the others still are)
 };
@@ -59,7 +65,7 @@ struct FlatPanel {
 // One pair of partner seam edges.
 struct SeamPair {
   int panelA = -1, edgeA = -1, panelB = -1, edgeB = -1;  // indices into PanelsResult
-  double lengthA = 0, lengthB = 0;  // 2D lengths of the two Bézier chains (m)
+  double lengthA = 0, lengthB = 0;                       // 2D lengths of the two Bézier chains (m)
   int samples = 0;                                       // vertices on each after remeshing
 };
 

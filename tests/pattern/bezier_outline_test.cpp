@@ -181,3 +181,36 @@ TEST(BezierOutline, FitOutlineKeepsCornersSharp) {
 
 }  // namespace
 }  // namespace s2p
+
+namespace s2p {
+namespace {
+
+// Seam walking on an arc of a circle: scaling across the chord by s turns the arc into an
+// elliptic arc with the same chord, whose length is known by quadrature; the walked chain reaches
+// a target 1 % longer exactly, keeps its ends and its G1 joints, moves by a few mm (the sagitta
+// grows by about the factor), and a target below the chord or beyond the limit is refused.
+TEST(BezierOutline, WalkingAChainReachesItsTargetLengthAndKeepsItsEnds) {
+  const Eigen::MatrixX2d p = arc(200, 0.3, kPi / 2.0);
+  const BezierChain chain = fitBezierChain(p, {.tolerance = 5e-5});
+  const double length = chain.length();
+  const auto walked = walkChainToLength(chain, 1.01 * length, 0.02);
+  ASSERT_TRUE(walked.has_value());
+  EXPECT_NEAR(walked->length(), 1.01 * length, 1e-9);
+  EXPECT_EQ(walked->segments.front().p[0], chain.segments.front().p[0]);
+  EXPECT_EQ(walked->segments.back().p[3], chain.segments.back().p[3]);
+  expectG1(*walked);
+  // The mid point moved outwards along the arc's axis by a few millimetres, no more.
+  const Eigen::Vector2d before = chain.point(0.5 * chain.size());
+  const Eigen::Vector2d after = walked->point(0.5 * walked->size());
+  EXPECT_GT((after - before).norm(), 1e-3);
+  EXPECT_LT((after - before).norm(), 2e-2);
+  // s = 1 is the identity; a target shorter than the chord, or a 1 mm limit, is refused.
+  const BezierChain same = scaledAcrossChord(chain, 1.0);
+  EXPECT_NEAR(same.length(), length, 1e-12);
+  const double chord = (chain.segments.back().p[3] - chain.segments.front().p[0]).norm();
+  EXPECT_FALSE(walkChainToLength(chain, 0.99 * chord, 1.0).has_value());
+  EXPECT_FALSE(walkChainToLength(chain, 1.01 * length, 0.001).has_value());
+}
+
+}  // namespace
+}  // namespace s2p
