@@ -285,32 +285,35 @@ Extremities findExtremities(const TriMesh& scan, const BodyModel& model,
   Eigen::VectorXd dist = dijkstra(g, seeds);
   std::vector<int> ext;
   std::vector<Eigen::VectorXd> fromExt;
-  {
-    int top = -1;
-    for (int v = 0; v < scan.numVertices(); ++v)
-      if (std::isfinite(dist[v]) && (top < 0 || scan.V(v, 1) > scan.V(top, 1))) top = v;
-    if (top < 0 || dist[top] < opt.minSeparation)
-      throw InputError(
-          "pose initialisation: no head found above the torso on the scan (the "
-          "highest point lies less than " +
-          std::to_string(opt.minSeparation) +
-          " m from the waist); this may not be a standing person");
-    ext.push_back(top);
-    fromExt.push_back(dijkstra(g, {top}));
-    dist = dist.cwiseMin(fromExt.back());
-  }
-  for (int k = 1; k < 5; ++k) {
+  // The vertex reached from the torso with the largest score(v), or −1.
+  const auto argmax = [&](auto score) {
     int best = -1;
     for (int v = 0; v < scan.numVertices(); ++v)
-      if (std::isfinite(dist[v]) && (best < 0 || dist[v] > dist[best])) best = v;
+      if (std::isfinite(dist[v]) && (best < 0 || score(v) > score(best))) best = v;
+    return best;
+  };
+  // An extremity found: distances are taken from it as well from now on.
+  const auto take = [&](int v) {
+    ext.push_back(v);
+    fromExt.push_back(dijkstra(g, {v}));
+    dist = dist.cwiseMin(fromExt.back());
+  };
+  const int top = argmax([&](int v) { return scan.V(v, 1); });
+  if (top < 0 || dist[top] < opt.minSeparation)
+    throw InputError(
+        "pose initialisation: no head found above the torso on the scan (the highest point lies "
+        "less than " +
+        std::to_string(opt.minSeparation) +
+        " m from the waist); this may not be a standing person");
+  take(top);
+  for (int k = 1; k < 5; ++k) {
+    const int best = argmax([&](int v) { return dist[v]; });
     if (best < 0 || dist[best] < opt.minSeparation)
       throw InputError("pose initialisation: found only " + std::to_string(k) +
                        " extremities (head, hands, feet) separated by " +
                        std::to_string(opt.minSeparation) +
                        " m on the scan; the limbs may touch the body, or this is not a person");
-    ext.push_back(best);
-    fromExt.push_back(dijkstra(g, {best}));
-    dist = dist.cwiseMin(fromExt.back());
+    take(best);
   }
 
   // Head: the first; feet: the two lowest of the rest; left on +X.
