@@ -133,20 +133,26 @@ void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
                       panels.panels[p].name, panels.panels[p].garment, failures[p]));
 }
 
-// The outline as the remesher will see it (each edge's chain resampled at its count, the last
-// sample of each edge left to the next edge's first) and as the print draws it (a sample every
-// kPrintSpacing): a crossing at either resolution is one.
-bool outlineSelfIntersects(const FlatPanel& fp, const std::vector<int>& counts) {
+// The edges of the outline that cross or touch another part of it (#edges flags; all zero: the
+// outline is simple), as the remesher sees the outline (each edge's chain resampled at its count,
+// the last sample of each edge left to the next edge's first) and as the print draws it (a
+// sample every kPrintSpacing): a crossing at either resolution is one.
+std::vector<char> crossingEdges(const FlatPanel& fp, const std::vector<int>& counts) {
   constexpr double kPrintSpacing = 0.002;  // m, finer than the print's 3 mm sew-line samples
+  std::vector<char> crossing(fp.edges.size(), 0);
   for (const bool fine : {false, true}) {
     std::vector<Eigen::Vector2d> pts;
+    std::vector<int> owner;  // per segment, its edge
     for (size_t e = 0; e < fp.edges.size(); ++e) {
       const BezierChain& c = fp.edges[e].chain;
       const int count =
           fine ? std::max(2, static_cast<int>(std::ceil(c.length() / kPrintSpacing)) + 1)
                : counts[e];
       const Eigen::MatrixX2d s = resampleChain(c, count);
-      for (int i = 0; i + 1 < s.rows(); ++i) pts.push_back(s.row(i).transpose());
+      for (int i = 0; i + 1 < s.rows(); ++i) {
+        pts.push_back(s.row(i).transpose());
+        owner.push_back(static_cast<int>(e));
+      }
     }
     Eigen::MatrixX2d polygon(static_cast<int>(pts.size()), 2);
     std::vector<int> loop(pts.size());
@@ -154,9 +160,16 @@ bool outlineSelfIntersects(const FlatPanel& fp, const std::vector<int>& counts) 
       polygon.row(static_cast<int>(i)) = pts[i].transpose();
       loop[i] = static_cast<int>(i);
     }
-    if (polygonSelfIntersects(polygon, loop)) return true;
+    std::vector<std::pair<int, int>> pairs;
+    if (polygonSelfIntersects(polygon, loop, &pairs))
+      for (const auto& [a, b] : pairs) crossing[owner[a]] = crossing[owner[b]] = 1;
   }
-  return false;
+  return crossing;
+}
+
+bool outlineSelfIntersects(const FlatPanel& fp, const std::vector<int>& counts) {
+  const std::vector<char> c = crossingEdges(fp, counts);
+  return std::find(c.begin(), c.end(), 1) != c.end();
 }
 
 // `iterations` steps of uniform Laplacian smoothing (λ = ½) of an open polyline, ends fixed:
@@ -174,22 +187,26 @@ Eigen::MatrixX2d smoothPolyline(Eigen::MatrixX2d p, int iterations) {
 
 // A scan's hem or cuff with frills, lumps where its shell folded, or a scrap of skin left on it
 // flattens into an outline that folds over itself, which no mesher can fill. Only openings are
-// touched (a seam's length is its partner's): each opening is smoothed along the flattened
-// boundary, more each round, and fitted again until the outline is simple. Returns the rounds'
-// smoothing steps used (0: the outline was simple), or −1 when even the most smoothing left it
-// crossing itself (the remesher then says so).
+// touched (a seam's length is its partner's), and only those a crossing involves: each is
+// smoothed along the flattened boundary, more each round, and fitted again until the outline is
+// simple. Returns the rounds' smoothing steps used (0: the outline was simple), or −1 when even
+// the most smoothing left it crossing itself (the remesher then says so).
 int untangleOpenings(const Panel& panel, const std::vector<int>& counts,
                      const FlatPatternOptions& options, FlatPanel& fp) {
-  if (!outlineSelfIntersects(fp, counts)) return 0;
+  std::vector<char> crossing = crossingEdges(fp, counts);
+  if (std::find(crossing.begin(), crossing.end(), 1) == crossing.end()) return 0;
+  std::vector<char> smoothed(fp.edges.size(), 0);
   for (int iterations : {4, 16, 64, 256, 1024}) {
     for (size_t e = 0; e < panel.edges.size(); ++e) {
-      if (!panel.edges[e].opening) continue;
+      smoothed[e] = smoothed[e] || (crossing[e] && panel.edges[e].opening);
+      if (!smoothed[e]) continue;
       const Eigen::MatrixX2d poly = rowsOf(fp.uv, panel.edges[e].vertices);
       FlatEdge& fe = fp.edges[e];
       fe.chain = fitBezierChain(smoothPolyline(poly, iterations), options.bezier);
       fe.fitError = maxDeviation(fe.chain, poly);
     }
-    if (!outlineSelfIntersects(fp, counts)) return iterations;
+    crossing = crossingEdges(fp, counts);
+    if (std::find(crossing.begin(), crossing.end(), 1) == crossing.end()) return iterations;
   }
   return -1;
 }
