@@ -183,7 +183,7 @@ void drawPiece(cairo_t* cr, const SewingPiece& piece, const PrintedPiece& at,
   drawGrainline(cr, at.toSheet(piece.grainFrom), at.toSheet(piece.grainTo));
 
   // The label where it is farthest from the outline and the grainline, shrunk to fit there.
-  const LabelSpot spot = labelSpot(piece.sewLine, {{piece.grainFrom, piece.grainTo}});
+  const LabelSpot& spot = at.label;
   const std::vector<TextLine> lines{
       {piece.name, 6, true}, {piece.garment, 4.5, false}, {cutText(piece), 4.5, false}};
   const Eigen::Vector2d natural = blockSize(cr, lines, 1);
@@ -369,6 +369,7 @@ PrintSheet layoutPrintSheet(const SewingPattern& pattern, const PrintOptions& op
   for (const SewingPiece& piece : pattern.pieces) {
     PrintedPiece printed;
     printed.cutLine = offsetOutline(piece.sewLine, options.seamAllowance);
+    printed.label = labelSpot(piece.sewLine, {{piece.grainFrom, piece.grainTo}});
     SheetPiece box;
     box.outlines.emplace_back(static_cast<int>(printed.cutLine.size()), 2);
     for (size_t k = 0; k < printed.cutLine.size(); ++k)

@@ -31,6 +31,7 @@ constexpr double kTestSquareMm = 100;  // the print-scale test square's side
 
 struct PrintedPiece {
   Polygon2 cutLine;  // metres, the piece's own frame (the sew line offset by the allowance)
+  LabelSpot label;   // metres, the piece's frame: where its label reads best (found once)
   // Where the piece's frame origin lands on the sheet (mm): a piece point p (m, y up) is drawn at
   // origin + 1000·(p.x, −p.y).
   Eigen::Vector2d origin = Eigen::Vector2d::Zero();
