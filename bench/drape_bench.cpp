@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "bench_obj.h"
 #include "drape/cloth_shapes.h"
 #include "drape/drape.h"
 
@@ -78,41 +79,6 @@ BENCHMARK(BM_Shirt)
     ->Iterations(1)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();
-
-// A minimal OBJ reader for the pattern files: vertices, triangles, groups (the bench only).
-struct ObjFile {
-  std::vector<Eigen::Vector3d> V;
-  std::vector<Eigen::Vector3i> F;
-  std::vector<int> group;  // per face, −1 before the first group
-  std::vector<std::string> names;
-};
-
-ObjFile readObjFile(const std::string& path) {
-  ObjFile o;
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read " + path);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ss(line);
-    std::string tag;
-    ss >> tag;
-    if (tag == "v") {
-      double x = 0, y = 0, z = 0;
-      ss >> x >> y >> z;
-      o.V.emplace_back(x, y, z);
-    } else if (tag == "g") {
-      std::string name;
-      ss >> name;
-      o.names.push_back(name);
-    } else if (tag == "f") {
-      std::string a, b, c;  // "i", "i/t" or "i/t/n"
-      ss >> a >> b >> c;
-      o.F.emplace_back(std::stoi(a) - 1, std::stoi(b) - 1, std::stoi(c) - 1);
-      o.group.push_back(static_cast<int>(o.names.size()) - 1);
-    }
-  }
-  return o;
-}
 
 DrapeInput readPatternFiles(const std::string& dir) {
   const ObjFile placed = readObjFile(dir + "/panels.obj");
