@@ -87,6 +87,7 @@ struct RunCommand {
   FitCommand fit;
   bool faithful = false;
   PrintOptions print;
+  PatternOptions pattern;
 };
 
 int runRun(const RunCommand& cmd, Progress& progress) {
@@ -96,7 +97,7 @@ int runRun(const RunCommand& cmd, Progress& progress) {
   SegmentationOptions so;
   so.boundary.faithful = cmd.faithful;
   const RunOutput run =
-      runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress);
+      runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress, cmd.pattern);
   writeRun(cmd.fit.out, loaded, model, run, progress, cmd.print);
   printRun(run, cmd.fit.out);
   if (run.patternError) std::rethrow_exception(run.patternError);
@@ -292,6 +293,7 @@ void addFitCommands(CLI::App& app, Commands& out) {
       "OUT/pattern/ (pattern.json for GarmentCode, pattern.pdf/.svg at 1:1, pattern.dxf, "
       "panels.obj + stitches.json + body_rest.obj for cloth simulators) and OUT/report.json");
   addFitOptions(run, r->fit);
+  addPatternOptions(run, r->pattern);
   addPrintOptions(run, r->print);
   run->add_flag("--faithful", r->faithful,
                 "Algorithm 1 as written, slower (see segment --faithful)");

@@ -27,6 +27,7 @@ struct PanelsCommand {
   std::string out = "panels_out";
   LoadOptions load;
   PrintOptions print;
+  PatternOptions pattern;
 };
 
 
@@ -96,7 +97,7 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
     throw FormatError(fmt::format("{} is not a garment list written by `segment`: {}",
                                   (segDir / "garments.json").string(), e.what()));
   }
-  const PatternResult r = runPattern(in, body, loaded.scan.mesh, {}, progress);
+  const PatternResult r = runPattern(in, body, loaded.scan.mesh, cmd.pattern, progress);
   progress.begin("write the pattern files");
   writePanels(cmd.out, loaded.scan, r.panels);
   writeFlatPattern(cmd.out, loaded.scan, r.panels, r.flat);
@@ -131,6 +132,7 @@ void addPatternCommands(CLI::App& app, Commands& out) {
       ->required();
   cmd->add_option("-o,--out", c->out, "Output folder (default panels_out)");
   addLoadOptions(cmd, c->load);
+  addPatternOptions(cmd, c->pattern);
   addPrintOptions(cmd, c->print);
   out.push_back({cmd, [c](Progress& progress) { return runPanelsCommand(*c, progress); }});
 }

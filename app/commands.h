@@ -15,6 +15,7 @@
 #include "body/features.h"
 #include "core/progress.h"
 #include "export/preview.h"
+#include "pipeline/pipeline.h"
 #include "io/cleanup.h"
 #include "io/normalize.h"
 #include "io/person_pieces.h"
@@ -71,6 +72,8 @@ void writeJson(const std::filesystem::path& path, const nlohmann::json& j);
 // Checks, before any work and without creating anything, that `dir` can be written (or created
 // and written): IoError naming the folder otherwise.
 void requireWritableFolder(const std::filesystem::path& dir);
+// --noise-filter MM for the pattern stage.
+void addPatternOptions(CLI::App* cmd, PatternOptions& pattern);
 // --seam-allowance MM and --paper a4|letter for the pattern files.
 void addPrintOptions(CLI::App* cmd, PrintOptions& print);
 // Reads a JSON file; IoError when it cannot be read, FormatError (naming `what`) when not JSON.

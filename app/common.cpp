@@ -1,10 +1,9 @@
 // Shared pieces of the command line: scan loading, the info summary, previews, JSON output.
 #include <fmt/format.h>
 
-#include <fstream>
-
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <sstream>
 
 #include "app/commands.h"
@@ -270,29 +269,46 @@ void requireWritableFolder(const fs::path& dir) {
   }
   fs::remove(probe, ec);
   if (!ok)
-    throw IoError(fmt::format("cannot write into the output folder {}: choose another with -o "
-                              "or make it writable",
-                              dir.string()));
+    throw IoError(
+        fmt::format("cannot write into the output folder {}: choose another with -o "
+                    "or make it writable",
+                    dir.string()));
+}
+
+void addPatternOptions(CLI::App* cmd, PatternOptions& pattern) {
+  cmd->add_option_function<double>(
+      "--noise-filter",
+      [&pattern](double mm) {
+        if (!(mm >= 0 && mm <= 20))
+          throw CLI::ValidationError("--noise-filter", "must be between 0 and 20 mm");
+        pattern.flat.denoise.scale = mm / 1000;
+      },
+      "Length of the filter that takes the scanner's noise out of each garment panel before "
+      "it is flattened, mm (default 5; 0: flatten the scan as it is). Noise makes every scanned "
+      "edge longer than the cloth, and so the pattern too big");
 }
 
 void addPrintOptions(CLI::App* cmd, PrintOptions& print) {
   cmd->add_option_function<double>(
-         "--seam-allowance",
-         [&print](double mm) {
-           if (!(mm >= 0 && mm <= 100))
-             throw CLI::ValidationError("--seam-allowance", "must be between 0 and 100 mm");
-           print.seamAllowance = mm / 1000;
-         },
-         "Seam allowance of the cut line in pattern.svg/.pdf/.dxf, mm (default 10; 0: cut on "
-         "the sew line)");
+      "--seam-allowance",
+      [&print](double mm) {
+        if (!(mm >= 0 && mm <= 100))
+          throw CLI::ValidationError("--seam-allowance", "must be between 0 and 100 mm");
+        print.seamAllowance = mm / 1000;
+      },
+      "Seam allowance of the cut line in pattern.svg/.pdf/.dxf, mm (default 10; 0: cut on "
+      "the sew line)");
   cmd->add_option_function<std::string>(
-         "--paper",
-         [&print](const std::string& p) {
-           if (p == "a4") print.paper = Paper::A4;
-           else if (p == "letter") print.paper = Paper::Letter;
-           else throw CLI::ValidationError("--paper", "must be a4 or letter");
-         },
-         "Paper the PDF is tiled on for home printing: a4 (default) or letter");
+      "--paper",
+      [&print](const std::string& p) {
+        if (p == "a4")
+          print.paper = Paper::A4;
+        else if (p == "letter")
+          print.paper = Paper::Letter;
+        else
+          throw CLI::ValidationError("--paper", "must be a4 or letter");
+      },
+      "Paper the PDF is tiled on for home printing: a4 (default) or letter");
 }
 
 }  // namespace s2p::app

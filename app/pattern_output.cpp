@@ -234,6 +234,9 @@ json flatPatternToJson(const PanelsResult& panels, const FlatPatternResult& flat
     for (const FlatEdge& e : fp.edges) fit = std::max(fit, e.fitError);
     j.update({{"grain", {fp.grain.x(), fp.grain.y(), fp.grain.z()}},
               {"area_3d_m2", m.area3d},
+              {"area_3d_scan_m2", p.area},
+              {"denoise_shift_mm", {{"mean", 1e3 * fp.denoiseShiftMean},
+                                    {"max", 1e3 * fp.denoiseShiftMax}}},
               {"area_2d_m2", m.area2d},
               {"area_distortion", {{"mean", m.areaDistortionMean}, {"max", m.areaDistortionMax}}},
               {"warp_strain", strainJson(m.warp)},

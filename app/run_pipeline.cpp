@@ -37,10 +37,11 @@ json segmentationSummary(const Segmentation& s) {
 
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
-                      Progress& progress) {
+                      Progress& progress, const PatternOptions& patternOptions) {
   PipelineOptions options;
   options.fit = fitOptions;
   options.segment = segmentOptions;
+  options.pattern = patternOptions;
   RunOutput out;
   static_cast<PipelineResult&>(out) = s2p::runPipeline(scan.scan, model, options, progress);
   out.segment = {std::move(out.segmentation), "curve"};

@@ -26,7 +26,8 @@ struct RunOutput : PipelineResult {
 // Computes everything and writes nothing (bad input fails before any output exists).
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
-                      Progress& progress);
+                      Progress& progress,
+                      const PatternOptions& patternOptions = {});
 
 // OUT/fit/ (writeFit), OUT/segment/ (writeSegmentation), OUT/pattern/ (writePanels) and
 // OUT/report.json: stage timings,

@@ -36,15 +36,21 @@ Eigen::MatrixX2d rowsOf(const Eigen::MatrixX2d& uv, const std::vector<int>& ids)
 void flatten(const Panel& panel, const BodyFrame& frame, const FlatPatternOptions& options,
              FlatPanel& out) {
   out.grain = panelGrain(panel, frame);
+  std::vector<int> corners;
+  for (const PanelEdge& e : panel.edges) corners.push_back(e.vertices.front());
+  out.surface = denoisePanel(panel.mesh, panel.loop, corners, options.denoise);
+  const Eigen::VectorXd shift = (out.surface.V - panel.mesh.V).rowwise().norm();
+  out.denoiseShiftMean = shift.size() ? shift.mean() : 0.0;
+  out.denoiseShiftMax = shift.size() ? shift.maxCoeff() : 0.0;
   out.flattening =
-      flattenPanel(panel.mesh, out.grain, panel.garment + " " + panel.name, options.flatten);
+      flattenPanel(out.surface, out.grain, panel.garment + " " + panel.name, options.flatten);
   out.uv = out.flattening.uv;
 }
 
 // Metrics and Bézier outline of a flattened panel (no remeshing yet: the sample counts depend
 // on the partner panels' 2D lengths).
 void outline(const Panel& panel, const FlatPatternOptions& options, FlatPanel& out) {
-  out.metrics = flatteningMetrics(panel.mesh, out.uv, out.grain);
+  out.metrics = flatteningMetrics(out.surface, out.uv, out.grain);
   out.edges.clear();
   for (const PanelEdge& e : panel.edges) {
     FlatEdge fe;
@@ -109,7 +115,7 @@ void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
   tbb::parallel_for(size_t{0}, panels.panels.size(), [&](size_t p) {
     FlatPanel& fp = r.panels[p];
     if (!fp.error.empty() || targets[p].empty()) return;
-    const TriMesh& mesh = panels.panels[p].mesh;
+    const TriMesh& mesh = fp.surface;
     try {
       Eigen::MatrixX2d trued =
           trueBoundaryLengths(mesh, fp.grain, fp.uv, targets[p], options.flatten, options.truing);
@@ -298,7 +304,7 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
   const auto t0 = std::chrono::steady_clock::now();
   FlatPatternResult r;
   r.panels.resize(panels.panels.size());
-  for (size_t p = 0; p < panels.panels.size(); ++p) {
+  tbb::parallel_for(size_t{0}, panels.panels.size(), [&](size_t p) {  // panels are independent
     const auto tp = std::chrono::steady_clock::now();
     FlatPanel& fp = r.panels[p];
     fp.panel = static_cast<int>(p);
@@ -306,11 +312,13 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
       flatten(panels.panels[p], frame, options, fp);
     } catch (const Error& e) {
       fp.error = e.what();
-      r.warnings.push_back(fmt::format("panel '{}' of {} not flattened: {}", panels.panels[p].name,
-                                       panels.panels[p].garment, e.what()));
     }
     fp.seconds = secondsSince(tp);
-  }
+  });
+  for (size_t p = 0; p < panels.panels.size(); ++p)
+    if (!r.panels[p].error.empty())
+      r.warnings.push_back(fmt::format("panel '{}' of {} not flattened: {}", panels.panels[p].name,
+                                       panels.panels[p].garment, r.panels[p].error));
   std::vector<SeamPair> pairs = seamPairs(panels);
   std::vector<Eigen::MatrixX2d> untrued(panels.panels.size());
   for (size_t p = 0; p < panels.panels.size(); ++p) untrued[p] = r.panels[p].uv;
