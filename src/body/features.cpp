@@ -188,6 +188,7 @@ constexpr double kWaistT = 0.22;      // pelvis → neck: navel height
 constexpr double kChestT = 0.62;      // pelvis → neck: chest (front/back sign points)
 constexpr double kHipT = 0.04;        // pelvis → neck: hip section above the crotch
 constexpr double kArmholeT = 0.12;    // shoulder → elbow: armhole just outside the joint
+constexpr double kUnderArmT = 0.55;   // pelvis → neck: the torso's side a hand below the armpit
 
 void boundaryFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   // B(U|S): loops around the neck and both wrists; + nose, hand tips; − chest front/back.
@@ -299,7 +300,7 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     armPoint(s.shoulder, s.elbow, 1.0);
     armPoint(s.shoulder, s.elbow, 0.5);
     armPoint(s.shoulder, s.elbow, 0.2);
-    for (double t : {0.7, 0.55, 0.4, 0.25, kHipT}) {
+    for (double t : {0.7, kUnderArmT, 0.4, 0.25, kHipT}) {
       const SectionLoop loop = r.torsoLoop(t, "torso side");
       pts.push_back(extremePoint(loop, lateral));
     }
@@ -316,7 +317,7 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   fs.seams.push_back(std::move(upper));
 
   // Shoulder (armhole) seams: a closed loop around each arm root, in the plane halfway between
-  // the upper-arm direction and the body's lateral axis. + chest front and back.
+  // the upper-arm direction and the body's lateral axis. + chest front, back and sides.
   CurveFeatures shoulder{"shoulder", {}, {}};
   for (const Side& s : kSides) {
     const Vec3 n = ((r.at(s.elbow) - r.at(s.shoulder)).normalized() + s.sign * kLeft).normalized();
@@ -328,6 +329,19 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   const SectionLoop chest = r.torsoLoop(kChestT, "chest");
   addSign(r, shoulder, "chest_front", extremePoint(chest, kFront), +1);
   addSign(r, shoulder, "chest_back", extremePoint(chest, -kFront), +1);
+  // The trunk under each arm (beyond the paper's two points): with the arms down the sleeve's
+  // cuff hangs a few cm from the torso's side, nearer than the neck, hem and chest points, and
+  // the sleeve's side of the armhole function crept down the torso's side and round to its front
+  // and back (arms_down, walking: 21–24 cm below the armpit). The torso below the chest, at its
+  // side and 45° to the front and back, is trunk in any arm pose; higher up a lowered arm
+  // presses into the posed torso and the points there see the arm (Appendix B, rule 2).
+  for (double t : {kUnderArmT, 0.4}) {
+    const SectionLoop loop = r.torsoLoop(t, "torso side");
+    for (const Side& s : kSides)
+      for (double f : {-1.0, 0.0, 1.0})
+        addSign(r, shoulder, fmt::format("torso_{:.2f}_{}_{:+.0f}", t, s.name, f),
+                extremePoint(loop, (s.sign * kLeft + f * kFront).normalized()), +1);
+  }
   fs.seams.push_back(std::move(shoulder));
 
   // Lower side seams: outer (ankle → hip → waist) and inner (ankle → crotch) per leg.
