@@ -188,6 +188,7 @@ constexpr double kWaistT = 0.22;      // pelvis → neck: navel height
 constexpr double kChestT = 0.62;      // pelvis → neck: chest (front/back sign points)
 constexpr double kHipT = 0.04;        // pelvis → neck: hip section above the crotch
 constexpr double kArmholeT = 0.12;    // shoulder → elbow: armhole just outside the joint
+constexpr double kUnderArmT = 0.55;   // pelvis → neck: the torso's side a hand below the armpit
 
 void boundaryFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   // B(U|S): loops around the neck and both wrists; + nose, hand tips; − chest front/back.
@@ -299,7 +300,7 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     armPoint(s.shoulder, s.elbow, 1.0);
     armPoint(s.shoulder, s.elbow, 0.5);
     armPoint(s.shoulder, s.elbow, 0.2);
-    for (double t : {0.7, 0.55, 0.4, 0.25, kHipT}) {
+    for (double t : {0.7, kUnderArmT, 0.4, 0.25, kHipT}) {
       const SectionLoop loop = r.torsoLoop(t, "torso side");
       pts.push_back(extremePoint(loop, lateral));
     }
@@ -316,7 +317,7 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   fs.seams.push_back(std::move(upper));
 
   // Shoulder (armhole) seams: a closed loop around each arm root, in the plane halfway between
-  // the upper-arm direction and the body's lateral axis. + chest front and back.
+  // the upper-arm direction and the body's lateral axis. + chest front, back and sides.
   CurveFeatures shoulder{"shoulder", {}, {}};
   for (const Side& s : kSides) {
     const Vec3 n = ((r.at(s.elbow) - r.at(s.shoulder)).normalized() + s.sign * kLeft).normalized();
@@ -328,6 +329,19 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   const SectionLoop chest = r.torsoLoop(kChestT, "chest");
   addSign(r, shoulder, "chest_front", extremePoint(chest, kFront), +1);
   addSign(r, shoulder, "chest_back", extremePoint(chest, -kFront), +1);
+  // The trunk under each arm (beyond the paper's two points): with the arms down the sleeve's
+  // cuff hangs a few cm from the torso's side, nearer than the neck, hem and chest points, and
+  // the sleeve's side of the armhole function crept down the torso's side and round to its front
+  // and back (arms_down, walking: 21–24 cm below the armpit). The torso below the chest, at its
+  // side and 45° to the front and back, is trunk in any arm pose; higher up a lowered arm
+  // presses into the posed torso and the points there see the arm (Appendix B, rule 2).
+  for (double t : {kUnderArmT, 0.4}) {
+    const SectionLoop loop = r.torsoLoop(t, "torso side");
+    for (const Side& s : kSides)
+      for (double f : {-1.0, 0.0, 1.0})
+        addSign(r, shoulder, fmt::format("torso_{:.2f}_{}_{:+.0f}", t, s.name, f),
+                extremePoint(loop, (s.sign * kLeft + f * kFront).normalized()), +1);
+  }
   fs.seams.push_back(std::move(shoulder));
 
   // Lower side seams: outer (ankle → hip → waist) and inner (ankle → crotch) per leg.
@@ -362,7 +376,8 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
   fs.seams.push_back(std::move(lower));
 
   // Crotch (hip-to-belly) seam: the body's midline from the front waist under the crotch to
-  // the back waist, from the sagittal section through the pelvis. 4 left (+) / 4 right (−).
+  // the back waist, from the sagittal section through the pelvis. 10 left (+) / 10 right (−)
+  // (the paper has 4 / 4): hips, and the outer and inner side of each thigh and shin.
   CurveFeatures crotch{"crotch", {}, {}};
   {
     const SectionLoop mid = r.loopAround(r.at(C::Pelvis), kLeft, "body midline");
@@ -412,28 +427,47 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
     crotch.signs.push_back(
         {fmt::format("hip_{:.2f}_right", t), r.surface(extremePoint(loop, -kLeft)), -1, i});
   }
-  // Down each leg, on its outer side: the thighs, and the shins too, as a biharmonic is held only
-  // near its constraints and from the thighs alone it swung across a striding leg (walking: the
-  // left/right line ran diagonally over both shins). On shorts the shin points find no garment
-  // and go with their pairs (§6.1.2).
+  // Down each leg, on its outer and its inner side: the thighs, and the shins too, as a biharmonic
+  // is held only near its constraints and from the thighs alone it swung across a striding leg
+  // (walking: the left/right line ran diagonally over both shins). The inner points hold the
+  // inner thighs: from the crotch down between the legs the left/right function is held by no
+  // point and its zero line ran down an inner thigh, leaving a tongue of the other side there
+  // (walking, patterns). On shorts the shin points find no garment and go with their pairs
+  // (§6.1.2); between thighs that touch the inner points see the other leg and go the same way.
   struct LegPlace {
     const char* part;
     C left0, left1, right0, right1;
     double t;
   };
-  for (const LegPlace& g :
-       {LegPlace{"thigh", C::LeftHip, C::LeftKnee, C::RightHip, C::RightKnee, 0.3},
-        LegPlace{"thigh", C::LeftHip, C::LeftKnee, C::RightHip, C::RightKnee, 0.5},
-        LegPlace{"shin", C::LeftKnee, C::LeftAnkle, C::RightKnee, C::RightAnkle, 0.3},
-        LegPlace{"shin", C::LeftKnee, C::LeftAnkle, C::RightKnee, C::RightAnkle, 0.7}}) {
-    const int i = static_cast<int>(crotch.signs.size());
-    const Vec3 pl =
-        extremePoint(r.boneLoop(g.left0, g.left1, g.t, fmt::format("left {}", g.part)), kLeft);
-    const Vec3 pr =
-        extremePoint(r.boneLoop(g.right0, g.right1, g.t, fmt::format("right {}", g.part)), -kLeft);
-    crotch.signs.push_back({fmt::format("{}_{:.2f}_left", g.part, g.t), r.surface(pl), +1, i + 1});
-    crotch.signs.push_back({fmt::format("{}_{:.2f}_right", g.part, g.t), r.surface(pr), -1, i});
-  }
+  const double midline = r.at(C::Pelvis).dot(kLeft);
+  // The loop point farthest towards the midline among those on the leg's own side of it (a
+  // section through touching thighs is one loop around both).
+  const auto innerPoint = [&](const SectionLoop& loop, double side) {
+    Eigen::Index best = -1;
+    for (Eigen::Index i = 0; i < loop.points.rows(); ++i) {
+      const double x = side * (loop.points.row(i).dot(kLeft) - midline);
+      if (x > 0 && (best < 0 || x < side * (loop.points.row(best).dot(kLeft) - midline))) best = i;
+    }
+    return best < 0 ? extremePoint(loop, -side * kLeft) : Vec3(loop.points.row(best).transpose());
+  };
+  for (const bool inner : {false, true})
+    for (const LegPlace& g :
+         {LegPlace{"thigh", C::LeftHip, C::LeftKnee, C::RightHip, C::RightKnee, 0.3},
+          LegPlace{"thigh", C::LeftHip, C::LeftKnee, C::RightHip, C::RightKnee, 0.5},
+          LegPlace{"shin", C::LeftKnee, C::LeftAnkle, C::RightKnee, C::RightAnkle, 0.3},
+          LegPlace{"shin", C::LeftKnee, C::LeftAnkle, C::RightKnee, C::RightAnkle, 0.7}}) {
+      const int i = static_cast<int>(crotch.signs.size());
+      const SectionLoop left = r.boneLoop(g.left0, g.left1, g.t, fmt::format("left {}", g.part));
+      const SectionLoop right =
+          r.boneLoop(g.right0, g.right1, g.t, fmt::format("right {}", g.part));
+      const Vec3 pl = inner ? innerPoint(left, +1) : extremePoint(left, kLeft);
+      const Vec3 pr = inner ? innerPoint(right, -1) : extremePoint(right, -kLeft);
+      const char* where = inner ? "inner_" : "";
+      crotch.signs.push_back(
+          {fmt::format("{}{}_{:.2f}_left", where, g.part, g.t), r.surface(pl), +1, i + 1});
+      crotch.signs.push_back(
+          {fmt::format("{}{}_{:.2f}_right", where, g.part, g.t), r.surface(pr), -1, i});
+    }
   fs.seams.push_back(std::move(crotch));
 }
 

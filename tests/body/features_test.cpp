@@ -164,7 +164,7 @@ TEST_P(FeatureRules, LoopsRingTheirBonesAndSignsLieOnTheirSides_Slow) {
     // Seams: pair counts of §6.1.1, pairs mutual with opposite signs; front/back pairs have
     // the + point in front; crotch pairs have the + point on the left.
     const std::map<std::string, int> pairs = {
-        {"upper_side", 13}, {"lower_side", 11}, {"crotch", 6}};
+        {"upper_side", 13}, {"lower_side", 11}, {"crotch", 10}};
     for (const auto& [name, n] : pairs) {
       const CurveFeatures* seam = fs.seam(name);
       ASSERT_NE(seam, nullptr);
@@ -185,7 +185,17 @@ TEST_P(FeatureRules, LoopsRingTheirBonesAndSignsLieOnTheirSides_Slow) {
       }
     for (const auto& s : fs.seam("crotch")->signs)
       EXPECT_EQ(s.value > 0, P(s.point).x() > J(C::Pelvis).x()) << s.name;
-    EXPECT_EQ(fs.seam("shoulder")->signs.size(), 2u);
+    // Shoulder: chest front and back, and the torso's sides below the arms (2 heights, 3 points
+    // a side), on their side and below the shoulder joints.
+    EXPECT_EQ(fs.seam("shoulder")->signs.size(), 14u);
+    for (const auto& s : fs.seam("shoulder")->signs) {
+      EXPECT_GT(s.value, 0) << s.name;
+      if (s.name.rfind("torso_", 0) != 0) continue;
+      const double side = s.name.find("_left_") != std::string::npos ? 1.0 : -1.0;
+      EXPECT_GT(side * (P(s.point).x() - J(C::Pelvis).x()), 0) << s.name;
+      EXPECT_LT(P(s.point).y(), std::min(J(C::LeftShoulder).y(), J(C::RightShoulder).y()) - 0.1)
+          << s.name;
+    }
 
     // Side seams stay on their side; the crotch seam runs front → crotch → back.
     for (const auto& s : fs.seam("upper_side")->splines) {

@@ -1,10 +1,18 @@
 // Seams and panels (§6.1) on synthetic scans segmented with their true body: the garment types
 // and panel sets the truth names, every panel a disk, partners one to one, the armhole seam
 // through the armpit and the crotch seam gone from a skirt.
+#include "pattern/panels.h"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+
 #include "eval/pattern_metrics.h"
-#include "pattern/panels.h"
+#include "pattern/body_frame.h"
 #include "segment/segmentation.h"
 #include "synth_cases.h"
 
@@ -16,6 +24,21 @@ struct PatternRun {
   PanelsResult panels;
   PatternScore score;
 };
+
+// Lowest height (frame.height) of the panel edges whose name ends with `suffix`, per edge name.
+std::map<std::string, double> lowestEdges(const PanelsResult& r, const BodyFrame& frame,
+                                          const std::string& suffix) {
+  std::map<std::string, double> low;
+  for (const Panel& p : r.panels)
+    for (const PanelEdge& e : p.edges) {
+      if (e.name.size() < suffix.size() ||
+          e.name.compare(e.name.size() - suffix.size(), suffix.size(), suffix) != 0)
+        continue;
+      double& l = low.try_emplace(e.name, std::numeric_limits<double>::infinity()).first->second;
+      for (int v : e.vertices) l = std::min(l, frame.height(p.mesh.V.row(v).transpose()));
+    }
+  return low;
+}
 
 PatternRun patternOf(const SynthCase& c) {
   PatternRun r;
@@ -64,6 +87,43 @@ TEST(Panels, ASkirtLosesItsCrotchSeamAndATopWithoutSleevesItsArmholes_Slow) {
       }
     }
   }
+}
+
+// Arms lowered to 18° from the body: a t-shirt's sleeve hangs against the torso's side, and the
+// scan joins them from the cuff up to the armpit, so the only surface between the sleeve and the
+// trunk there runs along the cuff's inner edge. The sleeve's side of the armhole function had
+// crept 25 cm down the torso; the armhole's lowest point must lie within 3 cm of the armpit, or of
+// the cuff's lowest point where that is lower.
+TEST(Panels, LoweredArmsKeepTheArmholeAtTheArmpitOrTheCuff_Slow) {
+  const SynthCase& c = synthCase("arms_down", 8000);
+  const PatternRun r = patternOf(c);
+  expectSound(r.score);
+  const BodyFrame frame(c.body.posed.canonical);
+  const std::map<std::string, double> armholes = lowestEdges(r.panels, frame, "_armhole");
+  const std::map<std::string, double> cuffs = lowestEdges(r.panels, frame, "_cuff");
+  ASSERT_EQ(armholes.size(), 2u);
+  for (const auto& [name, low] : armholes) {
+    const std::string side = name.substr(0, name.find('_'));
+    const double armpit = armpitHeight(c.body.posed.mesh, frame, side == "left");
+    ASSERT_TRUE(cuffs.count(side + "_cuff")) << side;
+    const double floor = std::min(armpit, cuffs.at(side + "_cuff"));
+    EXPECT_GT(low, floor - 0.03) << name << ": armpit " << armpit << ", cuff "
+                                 << cuffs.at(side + "_cuff");
+  }
+}
+
+// Mid-stride: from the crotch down between the legs the left/right function had no sign point,
+// and its zero line ran down an inner thigh, leaving a tongue of the other side there (6 trouser
+// panels for 4 on this scan).
+TEST(Panels, StridingTrousersGiveFourPanels_Slow) {
+  const PatternRun r = patternOf(synthCase("walking", 20000, 5));
+  expectSound(r.score);
+  for (const GarmentPanels& g : r.panels.garments)
+    for (const SeamLine& s : g.seams)
+      if (s.kind == SeamKind::LeftRight) {
+        EXPECT_TRUE(s.kept);
+        EXPECT_LT(s.line.length(), 1.2) << "the crotch seam runs front waist → crotch → back waist";
+      }
 }
 
 }  // namespace
