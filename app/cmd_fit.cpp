@@ -86,6 +86,8 @@ int runFit(const FitCommand& cmd, Progress& progress) {
 struct RunCommand {
   FitCommand fit;
   bool faithful = false;
+  bool noDrape = false;
+  int drapeSteps = -1;  // step budget of each drape phase; −1: DrapeOptions' defaults
   PrintOptions print;
 };
 
@@ -95,8 +97,11 @@ int runRun(const RunCommand& cmd, Progress& progress) {
   const BodyModel model = loadModel(cmd.fit.model, progress);
   SegmentationOptions so;
   so.boundary.faithful = cmd.faithful;
+  DrapeStageOptions drape;
+  drape.enabled = !cmd.noDrape;
+  if (cmd.drapeSteps >= 0) drape.drape.sewMaxSteps = drape.drape.drapeMaxSteps = cmd.drapeSteps;
   const RunOutput run =
-      runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress);
+      runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress, drape);
   writeRun(cmd.fit.out, loaded, model, run, progress, cmd.print);
   printRun(run, cmd.fit.out);
   if (run.patternError) std::rethrow_exception(run.patternError);
@@ -121,18 +126,21 @@ std::string patternColumns(const RunOutput& run, const Truth& truth, const Scan&
   } catch (const Error& e) {
     row["pattern_files_error"] = e.what();
   }
-  const PatternScore ps =
-      scorePattern(run.pattern.panels, truth, run.fit.fittedInScanFrame(), run.fit.canonicalInScanFrame());
+  const PatternScore ps = scorePattern(run.pattern.panels, truth, run.fit.fittedInScanFrame(),
+                                       run.fit.canonicalInScanFrame());
   std::string types, sets;
   json garments = json::array();
   for (const GarmentPatternScore& g : ps.garments) {
-    types += fmt::format("{}{}{}", types.empty() ? "" : ", ", g.foundType.empty() ? "none" : g.foundType,
-                         g.typeOk ? "" : " ✗");
+    types += fmt::format("{}{}{}", types.empty() ? "" : ", ",
+                         g.foundType.empty() ? "none" : g.foundType, g.typeOk ? "" : " ✗");
     sets += fmt::format("{}{}/{}{}", sets.empty() ? "" : ", ", g.foundPanels.size(),
                         g.expectedPanels.size(), g.panelsOk ? "" : " ✗");
-    garments.push_back({{"truth", g.truthGarment}, {"expected_type", g.expectedType},
-                        {"found_type", g.foundType}, {"expected_panels", g.expectedPanels},
-                        {"found_panels", g.foundPanels}, {"type_ok", g.typeOk},
+    garments.push_back({{"truth", g.truthGarment},
+                        {"expected_type", g.expectedType},
+                        {"found_type", g.foundType},
+                        {"expected_panels", g.expectedPanels},
+                        {"found_panels", g.foundPanels},
+                        {"type_ok", g.typeOk},
                         {"panels_ok", g.panelsOk}});
   }
   json armholes = json::object(), mirror = json::object(), sides = json::object();
@@ -212,8 +220,10 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
         ScanFitOptions fo;
         fo.nonrigid = !cmd.noNonrigid;
         RunOutput run;
+        DrapeStageOptions drape;
+        drape.enabled = false;  // fit-suite measures the fit, segmentation and pattern
         if (cmd.segment)
-          run = runPipeline(loaded, model, fo, so, progress);
+          run = runPipeline(loaded, model, fo, so, progress, drape);
         else
           run.fit = fitScan(loaded.scan.mesh, model, fo, &progress);
         const ScanFit& fit = run.fit;
@@ -290,11 +300,21 @@ void addFitCommands(CLI::App& app, Commands& out) {
       "The pipeline on a scan nobody labelled: fit the body, segment the garments, make the "
       "pattern (seams, panels, flattening, placement, stitches); writes OUT/fit/, OUT/segment/, "
       "OUT/pattern/ (pattern.json for GarmentCode, pattern.pdf/.svg at 1:1, pattern.dxf, "
-      "panels.obj + stitches.json + body_rest.obj for cloth simulators) and OUT/report.json");
+      "panels.obj + stitches.json + body_rest.obj for cloth simulators), OUT/drape/ (the pattern "
+      "sewn and draped, compared with the scan) and OUT/report.json");
   addFitOptions(run, r->fit);
   addPrintOptions(run, r->print);
   run->add_flag("--faithful", r->faithful,
                 "Algorithm 1 as written, slower (see segment --faithful)");
+  run->add_flag("--no-drape", r->noDrape,
+                "Skip the drape check (sewing the pattern on the rest body and comparing it with "
+                "the scanned garments; OUT/drape/)");
+  run->add_option("--drape-steps", r->drapeSteps,
+                  fmt::format("Step budget (1/60 s each) of each drape phase, sewing and draping "
+                              "(default {} and {}); a drape that has not settled by then is "
+                              "reported, not written",
+                              DrapeOptions{}.sewMaxSteps, DrapeOptions{}.drapeMaxSteps))
+      ->check(CLI::NonNegativeNumber);
   out.push_back({run, [r](Progress& progress) { return runRun(*r, progress); }});
 
   auto s = std::make_shared<FitSuiteCommand>();

@@ -40,7 +40,7 @@ class DemoPattern : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir;
-    run_ = new CliRun(test::runCli("-q demo -o " + q(dir_->path() / "demo")));
+    run_ = new CliRun(test::runCli("-q demo --no-drape -o " + q(dir_->path() / "demo")));
   }
   static void TearDownTestSuite() {
     delete run_;
