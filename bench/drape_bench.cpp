@@ -51,6 +51,9 @@ void report(benchmark::State& state, const DrapeInput& in, const DrapeResult& r)
   state.counters["sew_strain"] = r.maxSewStrain;
   state.counters["max_strain"] = r.maxStrain;
   state.counters["failed"] = r.status == DrapeStatus::Failed ? 1 : 0;
+  state.counters["searches"] = static_cast<double>(r.contactSearches);
+  state.counters["constraints"] = r.numConstraints;
+  state.counters["sim_s"] = r.seconds;
 }
 
 void BM_Tube(benchmark::State& state) {
