@@ -87,7 +87,8 @@ struct RunCommand {
   FitCommand fit;
   bool faithful = false;
   bool noDrape = false;
-  int drapeSteps = -1;  // step budget of each drape phase; −1: DrapeOptions' defaults
+  int drapeSteps = -1;       // step budget of each drape phase; −1: DrapeOptions' defaults
+  double remeshEdgeMm = 10;  // the panels' remeshing target edge
   PrintOptions print;
 };
 
@@ -100,8 +101,10 @@ int runRun(const RunCommand& cmd, Progress& progress) {
   DrapeStageOptions drape;
   drape.enabled = !cmd.noDrape;
   if (cmd.drapeSteps >= 0) drape.drape.sewMaxSteps = drape.drape.drapeMaxSteps = cmd.drapeSteps;
-  const RunOutput run =
-      runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so, progress, drape);
+  PatternOptions pattern;
+  pattern.flat.remesh.targetEdgeLength = cmd.remeshEdgeMm / 1000;
+  const RunOutput run = runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so,
+                                    progress, drape, pattern);
   writeRun(cmd.fit.out, loaded, model, run, progress, cmd.print);
   printRun(run, cmd.fit.out);
   if (run.patternError) std::rethrow_exception(run.patternError);
@@ -315,6 +318,10 @@ void addFitCommands(CLI::App& app, Commands& out) {
                               "reported, not written",
                               DrapeOptions{}.sewMaxSteps, DrapeOptions{}.drapeMaxSteps))
       ->check(CLI::NonNegativeNumber);
+  run->add_option("--remesh-edge", r->remeshEdgeMm,
+                  "Target edge length (mm) of the panels' triangulation (panels.obj, the drape)")
+      ->capture_default_str()
+      ->check(CLI::Range(2.0, 100.0));
   out.push_back({run, [r](Progress& progress) { return runRun(*r, progress); }});
 
   auto s = std::make_shared<FitSuiteCommand>();

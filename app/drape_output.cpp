@@ -114,7 +114,7 @@ json drapeToJson(const PipelineResult& run) {
           {"sew_steps", r.sewSteps},
           {"drape_steps", r.drapeSteps},
           {"seams_closed", r.seamsClosed},
-          {"settled", r.settled},
+          {"at_rest", r.settled},          // the cloth came to rest (the seams may still be open)
           {"written", drapeWritten(run)},  // drape/draped.obj and drape_compare.png
           {"stitches_sewn", r.sewnStitches},
           {"max_stitch_gap_mm", 1e3 * r.maxStitchGap},

@@ -38,8 +38,10 @@ json segmentationSummary(const Segmentation& s) {
 
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
-                      Progress& progress, const DrapeStageOptions& drape) {
+                      Progress& progress, const DrapeStageOptions& drape,
+                      const PatternOptions& pattern) {
   PipelineOptions options;
+  options.pattern = pattern;
   options.fit = fitOptions;
   options.segment = segmentOptions;
   options.drape = drape;

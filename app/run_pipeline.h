@@ -27,7 +27,8 @@ struct RunOutput : PipelineResult {
 // drape: the drape check after the pattern (on by default; `--no-drape` turns it off).
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
-                      Progress& progress, const DrapeStageOptions& drape = {});
+                      Progress& progress, const DrapeStageOptions& drape = {},
+                      const PatternOptions& pattern = {});
 
 // OUT/fit/ (writeFit), OUT/segment/ (writeSegmentation), OUT/pattern/ (writePanels), OUT/drape/
 // (writeDrape, when the drape ran) and

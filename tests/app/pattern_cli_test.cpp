@@ -1,7 +1,8 @@
 // `scan2pattern demo` ends with a pattern: every Patterns III file is written, GarmentCode's own
 // loader (../shared/validators/gc_check.py) reads pattern.json with no error, every stitch's
 // two sides are within 2 mm, stitches.json indexes panels.obj, and no placed panel comes within
-// the clearance of the rest body. An unwritable output folder fails before any work.
+// the clearance of the rest body. An unwritable output folder fails before any work. The demo
+// runs with --no-drape here (drape_cli_test.cpp checks the drape).
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -63,6 +64,15 @@ TEST_F(DemoPattern, WritesEveryPatternFile_Slow) {
   // No temporary file is left behind.
   for (const auto& e : fs::directory_iterator(pattern()))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+// --no-drape skips the drape stage: no drape/ folder, report.json says it did not run.
+TEST_F(DemoPattern, NoDrapeSkipsTheDrapeStage_Slow) {
+  ASSERT_EQ(run_->code, 0) << run_->out;
+  EXPECT_FALSE(fs::exists(dir_->path() / "demo" / "drape"));
+  const nlohmann::json report = readJson(dir_->path() / "demo" / "report.json");
+  EXPECT_FALSE(report.at("drape").at("ran").get<bool>());
+  for (const auto& s : report.at("stages")) EXPECT_NE(s.at("stage"), "drape");
 }
 
 TEST_F(DemoPattern, StitchesPairPanelsObjVerticesAndTheirSidesAgree_Slow) {
