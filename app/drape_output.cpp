@@ -38,8 +38,8 @@ void writeComparePng(const fs::path& path, const PipelineResult& run) {
   const std::vector<Rgb> ramp = strainColours();
   std::vector<Eigen::MatrixX3d> colours(d.garments.size());
   Scene draped, scanned;
+  // The scanned garment alone: fitted under it, the rest body would show through it.
   draped.meshes.push_back({&run.pattern.placement.restBody, nullptr, {215, 205, 195}});
-  scanned.meshes.push_back({&run.pattern.placement.restBody, nullptr, {215, 205, 195}});
   for (size_t g = 0; g < d.garments.size(); ++g) {
     const GarmentDrape& gd = d.garments[g];
     colours[g].resize(gd.draped.numVertices(), 3);
@@ -67,7 +67,7 @@ void writeComparePng(const fs::path& path, const PipelineResult& run) {
   blit(out, b, a.width + gap, 0);
   // Legend: the ramp from 0 to kLegendMaxMm, ticks every 10 mm.
   const int y0 = out.height - legendPx + 8, barW = std::min(360, out.width - 40), x0 = 20;
-  drawText(out, x0, y0, "distance to the scanned garment (mm)", 2, {0, 0, 0});
+  drawText(out, x0, y0, "distance to the scanned garment (mm; 30: 30 or more)", 2, {0, 0, 0});
   const int barY = y0 + textHeight(2) + 4;
   for (int x = 0; x < barW; ++x) {
     const Rgb c = colourAt(ramp, static_cast<double>(x) / (barW - 1));
@@ -77,8 +77,7 @@ void writeComparePng(const fs::path& path, const PipelineResult& run) {
     }
   }
   for (int mm = 0; mm <= static_cast<int>(kLegendMaxMm); mm += 10) {
-    const std::string label =
-        mm == static_cast<int>(kLegendMaxMm) ? fmt::format("{}+", mm) : fmt::format("{}", mm);
+    const std::string label = fmt::format("{}", mm);  // the bitmap font has no '+' or '≥
     const int x = x0 + static_cast<int>((barW - 1) * mm / kLegendMaxMm);
     drawText(out, std::min(x, out.width - textWidth(label, 1) - 1), barY + 16, label, 1, {0, 0, 0});
   }
