@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/drape_output.h"
 #include "app/run_pipeline.h"
 #include "body/body_source.h"
 #include "eval/evaluation_files.h"
@@ -22,7 +23,7 @@ namespace {
 
 constexpr const char* kDemoPreset = "tshirt_trousers";
 
-int runDemo(const fs::path& outDir, Progress& progress) {
+int runDemo(const fs::path& outDir, bool withDrape, Progress& progress) {
   SynthOptions options = presetOptions(kDemoPreset);
   options.bodySource = "mannequin";
   const SynthScan synth = synthesize(options, progress);
@@ -39,12 +40,14 @@ int runDemo(const fs::path& outDir, Progress& progress) {
   progress.begin("load body model mannequin");
   const BodyModel model = loadBodyModel("mannequin");
   progress.end();
-  const RunOutput run = runPipeline(loaded, model, {}, {}, progress);
+  DrapeStageOptions drape;
+  drape.enabled = withDrape;
+  const RunOutput run = runPipeline(loaded, model, {}, {}, progress, drape);
   writeRun(outDir, loaded, model, run, progress);
   printRun(run, outDir);
   const Evaluation e =
-      evaluate(loadEvaluation(resolveEvaluationFiles(outDir / "truth.json", outDir / "segment",
-                                                     {}, outDir / "fit" / "body.json"))
+      evaluate(loadEvaluation(resolveEvaluationFiles(outDir / "truth.json", outDir / "segment", {},
+                                                     outDir / "fit" / "body.json"))
                    .input());
   fmt::print("\n{}", formatEvaluation(e));
   fmt::print(
@@ -58,6 +61,13 @@ int runDemo(const fs::path& outDir, Progress& progress) {
       outDir.string(), kDemoPreset);
   if (!run.patternError)
     fmt::print("the pattern: {}\n", (outDir / "pattern" / "pattern.png").string());
+  // The demo ends as the paper's Fig. 18 does: the pattern sewn and draped.
+  if (drapeWritten(run))
+    fmt::print("the pattern sewn and draped: {}\n",
+               (outDir / "drape" / "drape_compare.png").string());
+  else if (withDrape)
+    fmt::print("the drape: not written (see the warnings in {})\n",
+               (outDir / "report.json").string());
   return 0;
 }
 
@@ -65,11 +75,16 @@ int runDemo(const fs::path& outDir, Progress& progress) {
 
 void addDemoCommand(CLI::App& app, Commands& out) {
   auto outDir = std::make_shared<std::string>("demo_out");
+  auto withDrape = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand("demo",
                                  "Synthesise a clothed scan of the built-in mannequin (with truth "
                                  "and previews) and run the main job on it");
   cmd->add_option("-o,--output", *outDir, "Output folder")->capture_default_str();
-  out.push_back({cmd, [outDir](Progress& progress) { return runDemo(*outDir, progress); }});
+  cmd->add_flag("--drape", *withDrape,
+                "Also sew and drape the pattern (OUT/drape/; experimental, see run --drape)");
+  out.push_back({cmd, [outDir, withDrape](Progress& progress) {
+                   return runDemo(*outDir, *withDrape, progress);
+                 }});
 }
 
 }  // namespace s2p::app

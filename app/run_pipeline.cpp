@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "app/drape_output.h"
 #include "app/fit_output.h"
 #include "app/pattern_files.h"
 #include "app/pattern_output.h"
@@ -37,11 +38,13 @@ json segmentationSummary(const Segmentation& s) {
 
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
-                      Progress& progress, const PatternOptions& patternOptions) {
+                      Progress& progress, const DrapeStageOptions& drape,
+                      const PatternOptions& pattern) {
   PipelineOptions options;
+  options.pattern = pattern;
   options.fit = fitOptions;
   options.segment = segmentOptions;
-  options.pattern = patternOptions;
+  options.drape = drape;
   RunOutput out;
   static_cast<PipelineResult&>(out) = s2p::runPipeline(scan.scan, model, options, progress);
   out.segment = {std::move(out.segmentation), "curve"};
@@ -59,6 +62,7 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
   for (const auto& w : run.pattern.flat.warnings) warnings.push_back("pattern: " + w);
   for (const auto& w : run.pattern.placement.warnings) warnings.push_back("placement: " + w);
   for (const auto& w : run.pattern.stitches.warnings) warnings.push_back("stitches: " + w);
+  for (const auto& w : run.drape.warnings) warnings.push_back(w);
   json pattern = json::array();
   for (const GarmentPanels& g : run.pattern.panels.garments) {
     json panels = json::array();
@@ -86,6 +90,7 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
           {"pattern_error", run.patternErrorMessage},
           {"flat_pattern", flatPatternToJson(run.pattern.panels, run.pattern.flat)},
           {"placement", placementToJson(run.pattern)},
+          {"drape", drapeToJson(run)},
           {"warnings", warnings},
           {"outputs",
            {{"fit",
@@ -99,7 +104,8 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
              "pattern.pdf, pattern.dxf, pattern.png, panels.obj, "
              "stitches.json, body_rest.obj, panels.json, panels_3d.obj, "
              "panels.png, flat.json, panels_flat.obj, "
-             "pattern_strain.png"}}}};
+             "pattern_strain.png"},
+            {"drape", drapeWritten(run) ? "drape/: draped.obj, drape_compare.png" : ""}}}};
 }
 
 void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& model,
@@ -114,6 +120,7 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
       writePanels(dir / "pattern", scan.scan, run.pattern.panels);
       writeFlatPattern(dir / "pattern", scan.scan, run.pattern.panels, run.pattern.flat);
       writePatternFiles(dir / "pattern", scan.scan, run.pattern, print);
+      writeDrape(dir / "drape", run);
     } catch (const Error&) {
       writeError = std::current_exception();
     }
@@ -129,12 +136,15 @@ void printRun(const RunOutput& run, const fs::path& dir) {
   printPanels(run.pattern.panels);
   printFlatPattern(run.pattern.panels, run.pattern.flat);
   printPatternFiles(run.pattern);
+  printDrape(run);
   fmt::print(
       "wrote {0}/report.json; pictures: {0}/fit/fit_front.png, {0}/fit/fit_side.png, "
       "{0}/segment/segment_boundaries.png, {0}/segment/segment_labels.png, "
       "{0}/pattern/panels.png, {0}/pattern/pattern_strain.png; the pattern: "
       "{0}/pattern/pattern.png, pattern.pdf, pattern.svg, pattern.dxf, pattern.json\n",
       dir.string());
+  if (drapeWritten(run))
+    fmt::print("the drape: {0}/drape/drape_compare.png, {0}/drape/draped.obj\n", dir.string());
 }
 
 }  // namespace s2p::app

@@ -11,8 +11,8 @@
 
 #include "app/commands.h"
 #include "app/segment_output.h"
-#include "fit/scan_fit.h"
 #include "export/pattern_print.h"
+#include "fit/scan_fit.h"
 #include "pipeline/pipeline.h"
 
 namespace s2p::app {
@@ -24,12 +24,14 @@ struct RunOutput : PipelineResult {
 };
 
 // Computes everything and writes nothing (bad input fails before any output exists).
+// drape: the drape check after the pattern (off unless asked for: `--drape`).
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
-                      Progress& progress,
-                      const PatternOptions& patternOptions = {});
+                      Progress& progress, const DrapeStageOptions& drape = {},
+                      const PatternOptions& pattern = {});
 
-// OUT/fit/ (writeFit), OUT/segment/ (writeSegmentation), OUT/pattern/ (writePanels) and
+// OUT/fit/ (writeFit), OUT/segment/ (writeSegmentation), OUT/pattern/ (writePanels), OUT/drape/
+// (writeDrape, when the drape ran) and
 // OUT/report.json: stage timings,
 // warnings and what was found (garments, one-piece, occlusion).
 void writeRun(const std::filesystem::path& dir, const LoadedScan& scan, const BodyModel& model,

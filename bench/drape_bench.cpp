@@ -13,6 +13,7 @@
 //   S2P_DRAPE_PATTERN=/tmp/demo/pattern build/release/bench/drape_bench --benchmark_filter=Files
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -26,12 +27,15 @@ namespace s2p {
 namespace {
 
 // Budgets from the environment (S2P_DRAPE_SEW_STEPS, S2P_DRAPE_STEPS, S2P_DRAPE_SUBSTEPS), to
-// bound a bench run on a large pattern.
+// bound a bench run on a large pattern; S2P_DRAPE_SELF=0 and S2P_DRAPE_STRAIN_LIMIT=x for
+// diagnosis.
 DrapeOptions envOptions() {
   DrapeOptions o;
   if (const char* v = std::getenv("S2P_DRAPE_SEW_STEPS")) o.sewMaxSteps = std::atoi(v);
   if (const char* v = std::getenv("S2P_DRAPE_STEPS")) o.drapeMaxSteps = std::atoi(v);
   if (const char* v = std::getenv("S2P_DRAPE_SUBSTEPS")) o.substeps = std::atoi(v);
+  if (const char* v = std::getenv("S2P_DRAPE_SELF")) o.selfCollision = std::atoi(v) != 0;
+  if (const char* v = std::getenv("S2P_DRAPE_STRAIN_LIMIT")) o.strainLimit = std::atof(v);
   return o;
 }
 
@@ -52,6 +56,9 @@ void report(benchmark::State& state, const DrapeInput& in, const DrapeResult& r)
   state.counters["sew_strain"] = r.maxSewStrain;
   state.counters["max_strain"] = r.maxStrain;
   state.counters["failed"] = r.status == DrapeStatus::Failed ? 1 : 0;
+  state.counters["searches"] = static_cast<double>(r.contactSearches);
+  state.counters["constraints"] = r.numConstraints;
+  state.counters["sim_s"] = r.seconds;
 }
 
 void BM_Tube(benchmark::State& state) {
@@ -140,6 +147,7 @@ void BM_PatternFiles(benchmark::State& state) {
   for (auto _ : state) r = runDrape(in, o);
   report(state, in, r);
   state.SetLabel(std::string(toString(r.status)) + (r.failure.empty() ? "" : ": " + r.failure));
+  for (const std::string& w : r.warnings) std::fprintf(stderr, "%s\n", w.c_str());
 }
 BENCHMARK(BM_PatternFiles)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 

@@ -53,6 +53,11 @@ struct BendConstraint {
   double alpha;  // compliance scale (A0 + A1)/3
 };
 
+struct LimitEdge {
+  int a, b;     // garment vertices (their particles once welded)
+  double rest;  // metres, the edge's length in the pattern
+};
+
 struct Contact {
   int v;        // vertex
   int t;        // triangle (row of the garment's F)
@@ -109,10 +114,12 @@ class ClothSim {
 
   int nv_ = 0;
   std::vector<Vector3d> x_, xprev_, vel_, xstep_;
-  std::vector<double> w_;  // inverse masses (0: unreferenced vertex, fixed)
-  Eigen::MatrixX3i F_;     // all panels' faces, garment vertex indices
+  std::vector<double> w_;           // inverse masses (0: unreferenced vertex, fixed)
+  Eigen::MatrixX3i F_;              // all panels' faces, garment vertex indices
+  std::vector<std::string> names_;  // of the panels
   std::vector<TriangleConstraint> tris_;
   std::vector<BendConstraint> bends_;
+  std::vector<LimitEdge> edges_;  // every panel edge once, for strain limiting
   std::vector<std::pair<int, int>> stitches_;
   std::vector<std::vector<int>> triColours_, bendColours_;
   bool triSerialLast_ = false, bendSerialLast_ = false;
@@ -121,7 +128,11 @@ class ClothSim {
   std::vector<int> weld_;            // representative of each vertex under the stitches
   std::vector<int> adjStart_, adj_;  // welded vertex adjacency (CSR over representatives)
   std::vector<Contact> contacts_;
-  double contactRadius_ = 0;  // metres, of the last search
+  double contactRadius_ = 0;       // metres, of the last search
+  std::vector<Vector3d> xsearch_;  // positions at the last contact search
+  std::vector<int> searchOrder_;   // faces in Morton order of their pattern position (per panel):
+                                   // neighbours query the same cells, in cache
+  long long searches_ = 0;
   double meanEdge_ = 0.01;
   Eigen::AlignedBox3d scene_;  // leaving it is a failure
 
@@ -140,6 +151,8 @@ class ClothSim {
   double dts_ = 0;
   long long solves_ = 0;
   double lastStepSpeed_ = 0;  // m/s, fastest vertex over the last step
+  double windowSpeed_ = 0;    // m/s, the largest net motion over the last rest window
+  int windowFastest_ = 0;     // its vertex
   double peakStrain_ = 1;     // largest triangle stretch seen at the end of a step
 
   void build(const DrapeInput& input);
@@ -148,6 +161,7 @@ class ClothSim {
   void solveTriangle(const TriangleConstraint& c, double* lambda);
   void solveBend(const BendConstraint& c, Vector3d& lambda);
   void solveStitches();
+  void limitStrain();
   int sewClosedStitches();
   void weldSewn();
   void recolour();
@@ -155,7 +169,9 @@ class ClothSim {
   void solveContacts();
   void solveBody(int v);
   void findContacts();
-  double stitchGap(double* mean) const;
+  bool searchDue() const;
+  double stitchGap(double* mean, int* widest = nullptr) const;
+  std::string where(int v) const;
   template <class Solve>
   void forColours(const std::vector<std::vector<int>>& groups, bool serialLast, Solve solve);
 };
@@ -166,6 +182,7 @@ void ClothSim::build(const DrapeInput& input) {
   for (const ClothPanel& p : input.panels)
     result_.panelOffset.push_back(result_.panelOffset.back() + p.numVertices());
   nv_ = result_.panelOffset.back();
+  for (const ClothPanel& p : input.panels) names_.push_back(p.name);
   x_.resize(nv_);
   int nf = 0;
   for (const ClothPanel& p : input.panels) nf += p.numFaces();
@@ -191,6 +208,7 @@ void ClothSim::build(const DrapeInput& input) {
   // Stretch/shear triangles and lumped masses.
   std::vector<double> mass(nv_, 0.0);
   double edgeSum = 0;
+  std::vector<int> triFace;  // the face of each triangle constraint
   for (int f = 0; f < nf; ++f) {
     TriangleConstraint c;
     for (int k = 0; k < 3; ++k) c.v[k] = F_(f, k);
@@ -204,9 +222,44 @@ void ClothSim::build(const DrapeInput& input) {
     const Eigen::Matrix2d D = Dm.inverse();
     c.d00 = D(0, 0), c.d01 = D(0, 1), c.d10 = D(1, 0), c.d11 = D(1, 1);
     tris_.push_back(c);
+    triFace.push_back(f);
     for (int k = 0; k < 3; ++k) mass[c.v[k]] += o_.density * c.area / 3;
   }
   meanEdge_ = nf > 0 ? edgeSum / (3.0 * nf) : 0.01;
+  std::vector<int> faceRank;
+  // Faces panel by panel in Morton (Z-curve) order of their centroid in the pattern, which the
+  // cloth keeps as neighbourhoods in 3D: the contact search, the triangles and the bending
+  // stencils visit them in that order (and are coloured in it), neighbours after neighbours.
+  {
+    std::vector<std::pair<uint64_t, int>> keys(nf);
+    int panel = 0;
+    for (int f = 0; f < nf; ++f) {
+      while (F_(f, 0) >= result_.panelOffset[panel + 1]) ++panel;
+      const Eigen::Vector2d c = (rest[F_(f, 0)] + rest[F_(f, 1)] + rest[F_(f, 2)]) / 3;
+      const auto cell = [&](double x) {
+        return static_cast<uint64_t>(std::clamp(std::floor(x / meanEdge_) + 32768.0, 0.0, 65535.0));
+      };
+      uint64_t key = 0, cx = cell(c.x()), cy = cell(c.y());
+      for (int b = 0; b < 16; ++b)
+        key |= ((cx >> b) & 1) << (2 * b) | ((cy >> b) & 1) << (2 * b + 1);
+      keys[f] = {static_cast<uint64_t>(panel) << 32 | key, f};
+    }
+    std::sort(keys.begin(), keys.end());
+    searchOrder_.resize(nf);
+    faceRank.resize(nf);
+    for (int f = 0; f < nf; ++f) searchOrder_[f] = keys[f].second, faceRank[keys[f].second] = f;
+  }
+  {
+    std::vector<int> order(tris_.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(),
+              [&](int l, int r) { return faceRank[triFace[l]] < faceRank[triFace[r]]; });
+    std::vector<TriangleConstraint> sorted;
+    sorted.reserve(tris_.size());
+    for (int i : order) sorted.push_back(tris_[i]);
+    tris_.swap(sorted);
+  }
+
   w_.resize(nv_);
   for (int v = 0; v < nv_; ++v) w_[v] = mass[v] > 0 ? 1.0 / mass[v] : 0.0;
   mass_ = mass;
@@ -232,6 +285,10 @@ void ClothSim::build(const DrapeInput& input) {
     const double cross = std::abs(u.x() * v.y() - u.y() * v.x());
     return cross > 1e-14 ? u.dot(v) / cross : std::numeric_limits<double>::quiet_NaN();
   };
+  for (size_t i = 0; i < he.size(); ++i)
+    if (i == 0 || he[i].a != he[i - 1].a || he[i].b != he[i - 1].b)
+      edges_.push_back({he[i].a, he[i].b, (rest[he[i].a] - rest[he[i].b]).norm()});
+  std::vector<int> bendFace;  // the rank of each bending stencil's first face
   for (size_t i = 0; i + 1 < he.size(); ++i) {
     if (he[i].a != he[i + 1].a || he[i].b != he[i + 1].b) continue;
     if (i + 2 < he.size() && he[i + 2].a == he[i].a && he[i + 2].b == he[i].b) {
@@ -251,6 +308,18 @@ void ClothSim::build(const DrapeInput& input) {
     ++i;
     if (!(std::isfinite(c.k[0] + c.k[1] + c.k[2] + c.k[3]) && a0 > 1e-12 && a1 > 1e-12)) continue;
     bends_.push_back(c);
+    bendFace.push_back(std::min(faceRank[he[i - 1].face], faceRank[he[i].face]));
+  }
+
+  {
+    std::vector<int> order(bends_.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int l, int r) { return bendFace[l] < bendFace[r]; });
+    std::vector<BendConstraint> sorted;
+    sorted.reserve(bends_.size());
+    for (int i : order) sorted.push_back(bends_[i]);
+    bends_.swap(sorted);
   }
 
   // Rest length of the boundary edges at each vertex (mean), for the stitches' pull.
@@ -514,6 +583,51 @@ void ClothSim::solveStitches() {
   }
 }
 
+// Strain limiting (Provot 1995): edges longer than strainLimit × their pattern length are
+// shortened to it, in Gauss–Seidel passes over the overstretched ones (found anew each pass, in
+// edge order: deterministic). One sweep per substep carries a load about one row: where a
+// strip's weight turns into a seam corner, the corner alone stretched 3× at 10 mm (the load
+// needs (carried mass / vertex mass)·g·Δt² of violation, and the vertex mass falls as edge²).
+// The passes carry it across the overstretched region within the substep. The stitches are
+// pulled after it: a seam whose two sides differ by a little (10 % of a 30 mm edge is 3 mm) is
+// eased in rather than held open by the limit.
+void ClothSim::limitStrain() {
+  if (!(o_.strainLimit > 0)) return;
+  constexpr int kChunks = 64;
+  const int ne = static_cast<int>(edges_.size());
+  std::vector<std::vector<int>> found(kChunks);
+  for (int pass = 0; pass < o_.strainLimitPasses; ++pass) {
+    tbb::parallel_for(0, kChunks, [&](int chunk) {
+      std::vector<int>& out = found[chunk];
+      out.clear();
+      const int e0 = static_cast<int>(int64_t(ne) * chunk / kChunks);
+      const int e1 = static_cast<int>(int64_t(ne) * (chunk + 1) / kChunks);
+      for (int e = e0; e < e1; ++e) {
+        const LimitEdge& l = edges_[e];
+        const double limit = o_.strainLimit * l.rest;
+        if ((x_[part_[l.a]] - x_[part_[l.b]]).squaredNorm() > limit * limit) out.push_back(e);
+      }
+    });
+    bool any = false;
+    for (const auto& chunk : found)
+      for (int e : chunk) {
+        const LimitEdge& l = edges_[e];
+        const int a = part_[l.a], b = part_[l.b];
+        const double wsum = w_[a] + w_[b];
+        if (a == b || wsum <= 0) continue;
+        const Vector3d d = x_[b] - x_[a];
+        const double len = d.norm(), limit = o_.strainLimit * l.rest;
+        if (len <= limit) continue;
+        const double s = (len - limit) / len / wsum;
+        x_[a] += (w_[a] * s) * d;
+        x_[b] -= (w_[b] * s) * d;
+        any = true;
+      }
+    solves_ += ne;
+    if (!any) break;
+  }
+}
+
 // Stitches whose partners met are sewn (welded from then on); the number still open.
 int ClothSim::sewClosedStitches() {
   int open = 0;
@@ -577,17 +691,17 @@ void ClothSim::solveBody(int v) {
   if (lt > 0) x_[v] -= tangential * std::min(friction_ * pen / lt, 1.0);
 }
 
-// Vertex–triangle pairs closer than the distance they could close within this step, from a
-// spatial hash of the vertices (counting sort: deterministic); found in fixed chunks of
-// triangles concatenated in order.
+// Vertex–triangle pairs closer than selfThickness + selfSkin, from a spatial hash of the
+// vertices (counting sort: deterministic); found in fixed chunks of triangles concatenated in
+// order. The list holds until a vertex has moved half the skin (a Verlet list): a pair farther
+// apart than the radius at the search cannot come within selfThickness before one of them
+// (or a triangle corner) has moved that far.
 void ClothSim::findContacts() {
   contacts_.clear();
+  xsearch_ = x_;
   if (!o_.selfCollision || nv_ == 0) return;
-  double vmax = 0;
-  for (const Vector3d& v : vel_) vmax = std::max(vmax, v.squaredNorm());
-  const double span = dts_ * o_.selfCollisionPeriod;  // seconds until the next search
-  vmax = std::min(std::sqrt(vmax) + gravity_.norm() * span, o_.maxSpeed);
-  contactRadius_ = o_.selfThickness + 2 * vmax * span;
+  ++searches_;
+  contactRadius_ = o_.selfThickness + o_.selfSkin;
   const double radius = contactRadius_;
   const double cell = std::max(radius, meanEdge_);
   const size_t tableSize = std::bit_ceil(static_cast<size_t>(4 * nv_));
@@ -622,7 +736,8 @@ void ClothSim::findContacts() {
     const int f0 = static_cast<int>(int64_t(nf) * chunk / kChunks);
     const int f1 = static_cast<int>(int64_t(nf) * (chunk + 1) / kChunks);
     std::vector<Contact>& out = found[chunk];
-    for (int f = f0; f < f1; ++f) {
+    for (int i = f0; i < f1; ++i) {
+      const int f = searchOrder_[i];
       const int t[3] = {Fsim_(f, 0), Fsim_(f, 1), Fsim_(f, 2)};
       const int r[3] = {weld_[t[0]], weld_[t[1]], weld_[t[2]]};
       const Vector3d &a = x_[t[0]], &b = x_[t[1]], &c = x_[t[2]];
@@ -667,6 +782,21 @@ void ClothSim::findContacts() {
   for (const auto& chunk : found) contacts_.insert(contacts_.end(), chunk.begin(), chunk.end());
 }
 
+// Whether a vertex has moved half the skin since the last contact search.
+bool ClothSim::searchDue() const {
+  if (!o_.selfCollision) return false;
+  if (static_cast<int>(xsearch_.size()) != nv_) return true;
+  const double limit = 0.25 * o_.selfSkin * o_.selfSkin;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, nv_, 2048), false,
+      [&](const tbb::blocked_range<int>& r, bool due) {
+        for (int v = r.begin(); v < r.end() && !due; ++v)
+          due = (x_[v] - xsearch_[v]).squaredNorm() > limit;
+        return due;
+      },
+      [](bool a, bool b) { return a || b; });
+}
+
 void ClothSim::substep() {
   const double decay = std::exp(-damping_ * dts_);
   tbb::parallel_for(tbb::blocked_range<int>(0, nv_, 1024), [&](const tbb::blocked_range<int>& r) {
@@ -686,6 +816,7 @@ void ClothSim::substep() {
     forColours(triColours_, triSerialLast_,
                [&](int c) { solveTriangle(tris_[c], &triLambda_[3 * c]); });
     forColours(bendColours_, bendSerialLast_, [&](int c) { solveBend(bends_[c], bendLambda_[c]); });
+    limitStrain();
     solveStitches();
     solveContacts();
     tbb::parallel_for(tbb::blocked_range<int>(0, nv_, 1024), [&](const tbb::blocked_range<int>& r) {
@@ -704,7 +835,7 @@ bool ClothSim::step(std::string& why) {
   dts_ = o_.timeStep / o_.substeps;
   xstep_ = x_;
   for (int s = 0; s < o_.substeps; ++s) {
-    if (s % o_.selfCollisionPeriod == 0) findContacts();
+    if (searchDue()) findContacts();
     substep();
   }
   syncMerged();
@@ -753,15 +884,26 @@ bool ClothSim::step(std::string& why) {
   return true;
 }
 
-double ClothSim::stitchGap(double* mean) const {
+double ClothSim::stitchGap(double* mean, int* widest) const {
   double mx = 0, sum = 0;
-  for (const auto& [a, b] : stitches_) {
-    const double g = (x_[a] - x_[b]).norm();
-    mx = std::max(mx, g);
+  for (size_t i = 0; i < stitches_.size(); ++i) {
+    const double g = (x_[stitches_[i].first] - x_[stitches_[i].second]).norm();
+    if (g > mx) {
+      mx = g;
+      if (widest) *widest = static_cast<int>(i);
+    }
     sum += g;
   }
   if (mean) *mean = stitches_.empty() ? 0 : sum / stitches_.size();
   return mx;
+}
+
+// "panel 'name' vertex v at (x, y, z)" for a garment vertex.
+std::string ClothSim::where(int v) const {
+  const auto it = std::upper_bound(result_.panelOffset.begin(), result_.panelOffset.end(), v);
+  const int p = static_cast<int>(it - result_.panelOffset.begin()) - 1;
+  return fmt::format("panel '{}' vertex {} at ({:.3f}, {:.3f}, {:.3f})", names_[p],
+                     v - result_.panelOffset[p], x_[v].x(), x_[v].y(), x_[v].z());
 }
 
 void ClothSim::run() {
@@ -796,12 +938,18 @@ void ClothSim::run() {
         closedFor = -1;
       }
     }
-    r.seamsClosed = ok && stitchGap(nullptr) < o_.sewTolerance;
-    if (ok && !r.seamsClosed)
+    int widest = 0;
+    const double gap = stitchGap(nullptr, &widest);
+    r.seamsClosed = ok && gap < o_.sewTolerance;
+    if (ok && !r.seamsClosed) {
+      int open = 0;
+      for (char s : sewn_) open += !s;
       r.warnings.push_back(fmt::format(
-          "drape: the seams did not close in the sewing budget of {} steps (largest gap {:.1f} "
-          "mm); draping anyway",
-          o_.sewMaxSteps, 1e3 * stitchGap(nullptr)));
+          "drape: the seams did not close in the sewing budget of {} steps ({} of {} stitch "
+          "pairs open, the widest {:.1f} mm: {} to {}); draping anyway",
+          o_.sewMaxSteps, open, stitches_.size(), 1e3 * gap, where(stitches_[widest].first),
+          where(stitches_[widest].second)));
+    }
   }
 
   r.maxSewStrain = peakStrain_;
@@ -813,23 +961,38 @@ void ClothSim::run() {
     friction_ = o_.friction;
     // Stitches keep closing at sewSpeed: a seam still open after the sewing budget does not snap.
     for (Vector3d& v : vel_) v.setZero();
+    // At rest: every vertex's net motion over a window of restSteps steps is below restSpeed,
+    // in two windows running. Over a window, not a step: a vertex held between two constraints
+    // (a cloth stretched over the body's edge) trembles in place by a fraction of a millimetre
+    // per step and never goes anywhere; a cloth that is still falling or swinging does.
+    std::vector<Vector3d> windowStart = x_;
+    const double window = std::max(1, o_.restSteps) * o_.timeStep;  // seconds
     int calm = 0;
     while (r.drapeSteps < o_.drapeMaxSteps) {
       ++r.drapeSteps;
       if (!doStep()) break;
       sewClosedStitches();
       weldSewn();
-      calm = lastStepSpeed_ < o_.restSpeed ? calm + 1 : 0;
-      if (calm >= o_.restSteps && r.drapeSteps >= o_.drapeMinSteps) {
+      if (r.drapeSteps % std::max(1, o_.restSteps) != 0) continue;
+      windowSpeed_ = 0;
+      for (int v = 0; v < nv_; ++v) {
+        const double speed = (x_[v] - windowStart[v]).norm() / window;
+        if (speed > windowSpeed_) windowSpeed_ = speed, windowFastest_ = v;
+      }
+      windowStart = x_;
+      calm = windowSpeed_ < o_.restSpeed ? calm + 1 : 0;
+      if (calm >= 2 && r.drapeSteps >= o_.drapeMinSteps) {
         r.settled = true;
         break;
       }
     }
     if (ok && !r.settled)
       r.warnings.push_back(fmt::format(
-          "drape: the cloth did not come to rest in the drape budget of {} steps (fastest "
-          "vertex {:.3f} m/s, rest below {:.3f} m/s)",
-          o_.drapeMaxSteps, lastStepSpeed_, o_.restSpeed));
+          "drape: the cloth did not come to rest in the drape budget of {} steps (garment vertex "
+          "{} at ({:.3f}, {:.3f}, {:.3f}) still moved at {:.3f} m/s over the last {} steps; at "
+          "rest below {:.3f} m/s)",
+          o_.drapeMaxSteps, windowFastest_, x_[windowFastest_].x(), x_[windowFastest_].y(),
+          x_[windowFastest_].z(), windowSpeed_, o_.restSteps, o_.restSpeed));
   }
 
   // Outputs and figures.
@@ -858,6 +1021,7 @@ void ClothSim::run() {
   }
   if (r.garment.V.allFinite()) r.selfIntersections = countSelfIntersections(r.garment, weld_);
   r.constraintSolves = solves_;
+  r.contactSearches = searches_;
   if (!ok) {
     r.status = DrapeStatus::Failed;
     r.failure = fmt::format("drape failed at step {} ({} sewing, {} draping): {}",
@@ -911,8 +1075,10 @@ void validate(const DrapeInput& in, const DrapeOptions& o) {
   }
   auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   auto nonNegative = [](double v) { return std::isfinite(v) && v >= 0; };
-  if (!positive(o.timeStep) || o.substeps < 1 || o.iterations < 1 || o.selfCollisionPeriod < 1)
-    throw InputError("drape: the time step must be positive, substeps and iterations at least 1");
+  if (!positive(o.timeStep) || o.substeps < 1 || o.iterations < 1 || !positive(o.selfSkin))
+    throw InputError(
+        "drape: the time step and the self-collision skin must be positive, substeps and "
+        "iterations at least 1");
   if (!nonNegative(o.stretchCompliance) || !nonNegative(o.shearCompliance) ||
       !nonNegative(o.bendingCompliance) || !positive(o.density))
     throw InputError("drape: compliances must be ≥ 0 and the density > 0");
@@ -924,6 +1090,10 @@ void validate(const DrapeInput& in, const DrapeOptions& o) {
         "drape: thicknesses, friction, damping must be ≥ 0; speeds and the sewing "
         "tolerance > 0; gravity finite");
   if (o.sewMaxSteps < 0 || o.drapeMaxSteps < 0) throw InputError("drape: step budgets must be ≥ 0");
+  if (!(o.strainLimit == 0 || o.strainLimit >= 1) || o.strainLimitPasses < 0)
+    throw InputError(
+        "drape: the strain limit must be 0 (off) or at least 1 (× the pattern length), its "
+        "passes ≥ 0");
 }
 
 }  // namespace

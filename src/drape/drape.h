@@ -13,8 +13,9 @@
 //   at sewSpeed, by at most sewPull of an edge per substep beyond where the cloth left them (a
 //   pull that never runs ahead of the cloth); once they meet they are one particle;
 // - body: signed distance ≥ thickness (BodySdf), Coulomb friction on the tangential motion;
-// - self-collision: vertex–triangle proximity (spatial hash, found anew
-//   every few substeps, side kept from the search), thickness selfThickness.
+// - self-collision: vertex–triangle proximity (spatial hash, found again once a vertex has
+//   moved half the search's skin, side kept from the search), thickness selfThickness;
+// - strain limiting: no edge ends a substep longer than strainLimit × its pattern length.
 // Deterministic: constraints are graph-coloured once (greedy, fixed order) and each colour is
 // solved in parallel on disjoint vertices; contacts are solved in a fixed order; so the result
 // does not depend on the number of threads.
@@ -35,7 +36,7 @@ struct DrapeOptions {
   int substeps = 12;                                       // XPBD substeps per step
   int iterations = 1;                                      // constraint iterations per substep
   Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);  // m/s², drape phase only
-  double damping = 1.0;     // 1/s: velocities decay as exp(−damping·t) while draping
+  double damping = 4.0;     // 1/s: velocities decay as exp(−damping·t) while draping
   double sewDamping = 8.0;  // 1/s while sewing (gravity off): the panels stop flapping
   double maxSpeed = 2.0;    // m/s: velocity clamp (self-collision margin per step)
 
@@ -44,6 +45,8 @@ struct DrapeOptions {
   double stretchCompliance = 1e-5;  // m/N: inverse membrane stiffness along u and v
   double shearCompliance = 1e-3;    // m/N: inverse in-plane shear stiffness
   double bendingCompliance = 2e5;   // 1/(N·m): inverse bending stiffness (0: rigid)
+  double strainLimit = 1.1;         // × pattern length: no edge ends a substep longer (0: off)
+  int strainLimitPasses = 8;  // Gauss–Seidel passes over the overstretched edges per substep
 
   // === Collision
   double bodyThickness = 0.0025;  // metres kept between the cloth and the body
@@ -52,7 +55,8 @@ struct DrapeOptions {
   double sdfVoxel = 0.004;        // metres, body SDF grid
   bool selfCollision = true;
   double selfThickness = 0.003;  // metres between two layers of cloth
-  int selfCollisionPeriod = 3;   // substeps between two searches for vertex–triangle contacts
+  double selfSkin = 0.005;       // metres searched beyond selfThickness; searched again once a
+                                 // vertex has moved half of it (a Verlet list)
 
   // === Schedule (GarmentCode's): sew, then drape
   double sewSpeed = 0.5;  // m/s: seams close at most this fast (from their start gap)
@@ -60,8 +64,8 @@ struct DrapeOptions {
   double sewTolerance = 0.001;  // metres: the seams are closed when every gap is below it
   int sewMaxSteps = 600;        // step budget of the sewing phase
   int sewSettleSteps = 10;      // steps sewing goes on once the seams are closed
-  double restSpeed = 0.01;      // m/s: at rest when every vertex moves slower than this
-  int restSteps = 10;           // ... for this many consecutive steps
+  double restSpeed = 0.01;      // m/s: at rest when no vertex's net motion is faster than this
+  int restSteps = 10;           // ... over a window of this many steps, two windows running
   int drapeMinSteps = 30;       // the drape runs at least this many steps
   int drapeMaxSteps = 900;      // step budget of the drape phase
 
@@ -108,8 +112,9 @@ struct DrapeResult {
   double seconds = 0;              // wall time of the whole run
   long long constraintSolves = 0;  // projections performed (all kinds)
   double constraintSolvesPerSecond = 0;
-  int numConstraints = 0;  // stretch/shear triangles + bending edges + stitches
-  int numColours = 0;      // parallel groups
+  int numConstraints = 0;         // stretch/shear triangles + bending edges + stitches
+  int numColours = 0;             // parallel groups
+  long long contactSearches = 0;  // self-collision searches (spatial hash rebuilt)
 };
 
 // Sews and drapes. Throws InputError for malformed input (sizes, indices out of range,

@@ -88,6 +88,18 @@ PipelineResult runPipeline(const Scan& scan, const BodyModel& model, const Pipel
     out.pattern = runPattern(panelsInput(out.segmentation, out.body), out.body, scan.mesh,
                              options.pattern, progress);
     for (const auto& s : out.pattern.stages) out.stages.push_back(s);
+    if (options.drape.enabled) {
+      t = Clock::now();
+      progress.begin("sew and drape the pattern on the rest body, compare with the scan");
+      try {
+        out.drape = runDrapeStage(out.pattern, out.segmentation, out.body, options.drape);
+      } catch (const Error& e) {  // a pattern the simulator refuses is reported, not fatal
+        out.drape = {};
+        out.drape.warnings.push_back(std::string("drape: not run: ") + e.what());
+      }
+      progress.end();
+      out.stages.emplace_back("drape", secondsSince(t));
+    }
   } catch (const Error& e) {
     progress.end();
     out.patternError = std::current_exception();

@@ -17,6 +17,7 @@
 #include "pattern/flat_pattern.h"
 #include "pattern/panels.h"
 #include "pattern/placement.h"
+#include "pipeline/drape_stage.h"
 #include "segment/segmentation.h"
 
 namespace s2p {
@@ -24,7 +25,7 @@ namespace s2p {
 // The fitted body as the segmentation and pattern stages see it, in the scan's normalised
 // frame (the garments' frame).
 struct PosedFeatures {
-  TriMesh body;                // the fully fitted body, carrying `features`
+  TriMesh body;  // the fully fitted body, carrying `features`
   FeatureSet features;
   Eigen::MatrixX3d canonical;  // kNumCanonical×3, the posed body's canonical points
   // What placement needs to unpose: the model, its fitted parameters and the map from the
@@ -49,9 +50,9 @@ struct PatternOptions {
 
 // Patterns I–III on cut garments.
 struct PatternResult {
-  PanelsResult panels;      // seams, panels, garment types (§6.1)
-  FlatPatternResult flat;   // flattened, outlined, remeshed panels (§6.2)
-  Placement placement;      // around the rest body (§6.3); empty when the body has no model
+  PanelsResult panels;     // seams, panels, garment types (§6.1)
+  FlatPatternResult flat;  // flattened, outlined, remeshed panels (§6.2)
+  Placement placement;     // around the rest body (§6.3); empty when the body has no model
   StitchSet stitches;
   std::vector<std::pair<std::string, double>> stages;  // (stage, seconds)
 };
@@ -60,10 +61,30 @@ struct PatternResult {
 PatternResult runPattern(const PanelsInput& input, const PosedFeatures& body, const TriMesh& scan,
                          const PatternOptions& options, Progress& progress);
 
+// === The drape check (issue 19)
+
+// The simulator's input from a placed pattern: one cloth panel per flattened, placed panel (rest
+// shape = the remeshed flat panel, start = its placement), every stitch's vertex pairs, the rest
+// body. panelOf (may be null) receives each cloth panel's PatternResult panel.
+DrapeInput drapeInput(const PatternResult& pattern, std::vector<int>* panelOf = nullptr);
+
+// Points of the garments' (scan) frame moved to the drape pose of placement's rest frame by
+// linear blend skinning: each point takes the skinning weights of its closest point on the
+// fitted body, is unposed with the fitted pose and posed in the drape pose (as placement carries
+// the full fit's detail to the rest body). Throws InputError when the body has no model.
+Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& body,
+                             const Placement& placement);
+
+// Drapes the pattern and compares each garment. Never throws for a simulation that fails: the
+// failure is in warnings (and drape.status); throws InputError only for inconsistent input.
+DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segmentation,
+                         const PosedFeatures& body, const DrapeStageOptions& options);
+
 struct PipelineOptions {
   ScanFitOptions fit;
   SegmentationOptions segment;
   PatternOptions pattern;
+  DrapeStageOptions drape;
 };
 
 struct PipelineResult {
@@ -75,11 +96,13 @@ struct PipelineResult {
   // and look at); the caller rethrows it for its exit code.
   std::exception_ptr patternError;
   std::string patternErrorMessage;
+  DrapeStage drape;  // after a pattern; ran = false when disabled or the pattern failed
   std::vector<std::pair<std::string, double>> stages;  // (stage, seconds), in order
 };
 
 // The fit and segmentation throw their errors (bad input fails before any result exists); the
-// pattern stages' are caught into patternError.
+// pattern stages' are caught into patternError. The drape never throws: its failure is a
+// warning in drape.warnings.
 PipelineResult runPipeline(const Scan& scan, const BodyModel& model, const PipelineOptions& options,
                            Progress& progress);
 

@@ -1,7 +1,8 @@
 // `scan2pattern demo` ends with a pattern: every Patterns III file is written, GarmentCode's own
 // loader (../shared/validators/gc_check.py) reads pattern.json with no error, every stitch's
 // two sides are within 2 mm, stitches.json indexes panels.obj, and no placed panel comes within
-// the clearance of the rest body. An unwritable output folder fails before any work.
+// the clearance of the rest body. An unwritable output folder fails before any work. The demo
+// runs without --drape here (drape_cli_test.cpp checks the drape).
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -63,6 +64,12 @@ TEST_F(DemoPattern, WritesEveryPatternFile_Slow) {
   // No temporary file is left behind.
   for (const auto& e : fs::directory_iterator(pattern()))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+  // Without --drape the drape stage is skipped: no drape/ folder, report.json says it did not run (checked
+  // here: a test of its own would run the demo once more under ctest).
+  EXPECT_FALSE(fs::exists(dir_->path() / "demo" / "drape"));
+  const nlohmann::json report = readJson(dir_->path() / "demo" / "report.json");
+  EXPECT_FALSE(report.at("drape").at("ran").get<bool>());
+  for (const auto& s : report.at("stages")) EXPECT_NE(s.at("stage"), "drape");
 }
 
 TEST_F(DemoPattern, StitchesPairPanelsObjVerticesAndTheirSidesAgree_Slow) {

@@ -144,25 +144,28 @@ TEST(Drape, SewnSeamPartnersEndWithinAMillimetreAfterDrapingUnderGravity_Slow) {
 // closing on a hard schedule (len ≤ L0 − sewSpeed·t) ran ahead of the cloth that had to be
 // dragged over the shoulders: the stitched row was torn 2.6× from the next one at 10 mm (and the
 // drape failed at 3×). Bounded to a quarter edge per substep beyond the cloth, a row leads by a
-// fraction of an edge. Sewn partners are one particle: their gap is exactly zero.
-TEST(Drape, AShirtAt10mmSewsWithoutTearingItsStitchedRows_Slow) {
+// fraction of an edge. Sewn partners are one particle: their gap is exactly zero. Then under
+// gravity: the neck corners, where the unsewn neck strip's weight turns into the shoulder seams,
+// stretched to 3.1× within 16 steps (one sweep per substep carries a load about a row); strain
+// limiting holds them (the run then settles after ~280 drape steps: bench/RESULTS.md, Drape III).
+TEST(Drape, AShirtAt10mmSewsWithoutTearingAndHangsUnderGravity_Slow) {
   const DrapeInput in = makeShirtGarment(0.01);
   DrapeOptions o;
-  o.drapeMaxSteps = 0;  // sewing only
+  o.drapeMaxSteps = 30;  // the failure came at drape step 11–16
   const DrapeResult r = runDrape(in, o);
   ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
   EXPECT_TRUE(r.seamsClosed);
   EXPECT_EQ(r.sewnStitches, static_cast<int>(in.stitches.size()));
   EXPECT_EQ(r.maxStitchGap, 0.0);
   EXPECT_LT(r.maxSewStrain, 1.5);
+  EXPECT_EQ(r.drapeSteps, 30);
+  EXPECT_LT(r.maxStrain, 2.5);  // was 3.1× (failed) without strain limiting
   EXPECT_EQ(r.bodyPenetrations, 0);
-  std::cout << "shirt 10 mm sewing: " << r.sewSteps << " steps, largest stretch " << r.maxSewStrain
-            << "×, " << r.seconds << " s\n";
+  std::cout << "shirt 10 mm: " << r.sewSteps << " sewing steps, largest stretch " << r.maxSewStrain
+            << "× while sewing, " << r.maxStrain << "× after 30 drape steps, " << r.seconds
+            << " s\n";
 }
 
-// Disabled: fails. With the default 12 substeps the two sheets slide off the sphere together
-// ("left the scene" at step 94); with 24 substeps they stay stacked with no intersection but the
-// run takes 52 s. Self-collision of two free layers under load needs work (see bench/RESULTS.md).
 TEST(Drape, DISABLED_TwoStackedSheetsStayStacked) {
   // Self-collision: the upper sheet lands on the lower one and must stay above it.
   DrapeInput in = sheetOnSphere(kSphereRadius + 0.02);

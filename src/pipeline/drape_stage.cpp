@@ -1,0 +1,159 @@
+#include "pipeline/drape_stage.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <map>
+
+#include "body/posing.h"
+#include "core/error.h"
+#include "core/mesh_query.h"
+#include "pipeline/pipeline.h"
+
+namespace s2p {
+
+DrapeInput drapeInput(const PatternResult& pattern, std::vector<int>* panelOf) {
+  DrapeInput in;
+  const Placement& pl = pattern.placement;
+  std::vector<int> cloth(pattern.flat.panels.size(), -1);  // pattern panel → cloth panel
+  std::vector<int> of;
+  for (size_t p = 0; p < pattern.flat.panels.size(); ++p) {
+    const FlatPanel& fp = pattern.flat.panels[p];
+    if (!fp.error.empty() || fp.remeshed.V.rows() == 0 || p >= pl.panels.size() ||
+        !pl.panels[p].placed)
+      continue;
+    const Panel& panel = pattern.panels.panels[p];
+    ClothPanel c;
+    c.name = panel.garment + "_" + panel.name;
+    c.rest2d = fp.remeshed.V;
+    c.start = pl.panels[p].V;
+    c.F = fp.remeshed.F;
+    cloth[p] = static_cast<int>(in.panels.size());
+    of.push_back(static_cast<int>(p));
+    in.panels.push_back(std::move(c));
+  }
+  for (const Stitch& s : pattern.stitches.stitches) {
+    const int a = cloth[s.panelA], b = cloth[s.panelB];
+    if (a < 0 || b < 0) continue;
+    for (const auto& [va, vb] : s.vertices) in.stitches.push_back({a, va, b, vb});
+  }
+  in.body = pl.restBody;
+  if (panelOf) *panelOf = std::move(of);
+  return in;
+}
+
+Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& body,
+                             const Placement& placement) {
+  if (!body.model) throw InputError("drape: the fitted body has no model to unpose the garments");
+  const BodyModel& model = *body.model;
+  const PosedBody fitted = poseBody(model, body.params);
+  const Eigen::VectorXd& shape = body.params.shape;
+  const PosedBody drape =
+      poseBody(model, {shape, standardPose(model, shape, StandardPose::DrapePose)});
+  // Placement's shift into the rest frame (feet on y = 0, pelvis above the origin).
+  const Eigen::RowVector3d shift = placement.canonical.row(0) - drape.canonical.row(0);
+  // Garment frame → the parameters' frame, where the fitted body is posed.
+  const Eigen::MatrixX3d Q = (body.toGarments.inverse() * P.transpose()).transpose();
+  const MeshQuery query(fitted.mesh);
+  const std::vector<ClosestHit> hits = query.closestPoints(Q);
+  std::vector<Eigen::Triplet<double>> w;
+  for (int i = 0; i < Q.rows(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const int v = fitted.mesh.F(hits[i].face, k);
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(model.weights, v); it;
+           ++it)
+        w.emplace_back(i, static_cast<int>(it.col()), hits[i].bary[k] * it.value());
+    }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> W(Q.rows(), model.numJoints());
+  W.setFromTriplets(w.begin(), w.end());
+  Eigen::MatrixX3d out = poseSkinned(drape, W, unposeSkinned(fitted, W, Q));
+  out.rowwise() += shift;
+  return out;
+}
+
+DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segmentation,
+                         const PosedFeatures& body, const DrapeStageOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  DrapeStage out;
+  if (!options.enabled) return out;
+  if (pattern.placement.panels.empty() || pattern.placement.restBody.numFaces() == 0) {
+    out.warnings.push_back("drape: skipped, the pattern was not placed around a rest body");
+    return out;
+  }
+  const DrapeInput in = drapeInput(pattern, &out.panelOf);
+  if (in.panels.empty()) {
+    out.warnings.push_back("drape: skipped, no panel was flattened and placed");
+    return out;
+  }
+  out.drape = runDrape(in, options.drape);
+  out.ran = true;
+  for (const std::string& w : out.drape.warnings) out.warnings.push_back(w);
+
+  // Per garment: its cloth panels (vertices as in drape.garment) against its scanned mesh.
+  std::map<std::string, int> index;
+  out.garmentOf.assign(out.panelOf.size(), -1);
+  for (size_t c = 0; c < out.panelOf.size(); ++c) {
+    const std::string& g = pattern.panels.panels[out.panelOf[c]].garment;
+    const auto found = index.find(g);
+    if (found != index.end()) {
+      out.garmentOf[c] = found->second;
+      continue;
+    }
+    for (const GarmentPiece& piece : segmentation.garments)
+      if (piece.name == g && piece.mesh.numFaces() > 0) {
+        index[g] = static_cast<int>(out.garments.size());
+        out.garmentOf[c] = index[g];
+        GarmentDrape gd;
+        gd.garment = g;
+        gd.scanned = TriMesh(toDrapePose(piece.mesh.V, body, pattern.placement), piece.mesh.F);
+        out.garments.push_back(std::move(gd));
+        break;
+      }
+  }
+  // Only a sewn garment at rest is a drape to measure and write: a failed or unsettled run is
+  // reported as such (its positions say nothing about the pattern), the pattern files unaffected.
+  if (out.drape.status != DrapeStatus::Settled || !out.drape.garment.V.allFinite()) {
+    out.warnings.push_back(fmt::format(
+        "drape: {}: no draped garment written or measured (the pattern files are unaffected)",
+        out.drape.status == DrapeStatus::Failed ? "the simulation failed"
+        : out.drape.seamsClosed                 ? "the cloth did not settle in its step budget"
+                                                : "the seams did not close in the sewing budget"));
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  }
+  for (size_t g = 0; g < out.garments.size(); ++g) {
+    GarmentDrape& gd = out.garments[g];
+    std::vector<int> map(out.drape.garment.numVertices(), -1);
+    int nv = 0, nf = 0;
+    for (size_t c = 0; c < out.panelOf.size(); ++c)
+      if (out.garmentOf[c] == static_cast<int>(g)) {
+        for (int v = out.drape.panelOffset[c]; v < out.drape.panelOffset[c + 1]; ++v) map[v] = nv++;
+        nf += in.panels[c].numFaces();
+      }
+    gd.draped.V.resize(nv, 3);
+    gd.draped.F.resize(nf, 3);
+    for (int v = 0; v < out.drape.garment.numVertices(); ++v)
+      if (map[v] >= 0) gd.draped.V.row(map[v]) = out.drape.garment.V.row(v);
+    int f = 0;
+    for (int k = 0; k < out.drape.garment.numFaces(); ++k) {
+      const int a = map[out.drape.garment.F(k, 0)];
+      if (a < 0) continue;
+      gd.draped.F.row(f++) << a, map[out.drape.garment.F(k, 1)], map[out.drape.garment.F(k, 2)];
+    }
+    gd.comparison = compareMeshes(gd.draped, gd.scanned);
+    // Per panel region: its block of draped vertices (panels are concatenated in cloth order).
+    for (size_t c = 0, v0 = 0; c < out.panelOf.size(); ++c) {
+      if (out.garmentOf[c] != static_cast<int>(g)) continue;
+      const ClothPanel& cp = in.panels[c];
+      const TriMesh panel(gd.draped.V.middleRows(static_cast<int>(v0), cp.numVertices()), cp.F);
+      gd.panels.emplace_back(
+          cp.name, distanceStats(panel, gd.comparison.distanceA.segment(static_cast<int>(v0),
+                                                                        cp.numVertices())));
+      v0 += cp.numVertices();
+    }
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace s2p

@@ -1,0 +1,42 @@
+// The drape check's results (issue 19): the placed, remeshed pattern sewn and draped on the
+// rest body (drape/drape.h), then compared with the scanned garments brought to the same pose by
+// the skinning that unposes the body: how close, in millimetres, the sewn pattern comes to what
+// was scanned. The functions are in pipeline.h (they take the pattern stage's results).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/tri_mesh.h"
+#include "drape/compare.h"
+#include "drape/drape.h"
+
+namespace s2p {
+
+struct DrapeStageOptions {
+  bool enabled = false;  // the stage runs only when asked (--drape): see DrapeStageOptions
+  DrapeOptions drape;
+};
+
+// One garment of the drape: its draped panels against its scanned mesh in the drape pose.
+struct GarmentDrape {
+  std::string garment;        // "upper", "lower", "onepiece"
+  TriMesh draped;             // the garment's panels after the drape, rest frame (metres)
+  TriMesh scanned;            // the cut garment of the segmentation in the drape pose
+  MeshComparison comparison;  // A = draped, B = scanned
+  // Per panel region: the panel's draped vertices to the scanned garment, (panel name, stats).
+  std::vector<std::pair<std::string, SurfaceDistanceStats>> panels;
+};
+
+struct DrapeStage {
+  bool ran = false;            // false: disabled, or nothing to drape (see warnings)
+  DrapeResult drape;           // the simulation and its figures
+  std::vector<int> panelOf;    // cloth panel → PatternResult panel
+  std::vector<int> garmentOf;  // cloth panel → GarmentDrape (−1: its garment was not compared)
+  std::vector<GarmentDrape> garments;
+  std::vector<std::string>
+      warnings;  // for report.json; a failed drape is a warning, never an error
+  double seconds = 0;
+};
+
+}  // namespace s2p
