@@ -86,7 +86,7 @@ int runFit(const FitCommand& cmd, Progress& progress) {
 struct RunCommand {
   FitCommand fit;
   bool faithful = false;
-  bool drape = false;  // --drape: the drape check after the pattern (off by default)
+  bool drape = false;        // --drape: the drape check after the pattern (off by default)
   int drapeSteps = -1;       // step budget of each drape phase; −1: DrapeOptions' defaults
   double remeshEdgeMm = 10;  // the panels' remeshing target edge
   PrintOptions print;

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <fstream>
 
 namespace s2p::test {
 
@@ -21,6 +22,19 @@ CliRun runCli(const std::string& args, bool withStderr) {
 
 std::string q(const std::filesystem::path& p) {
   return "'" + p.string() + "'";
+}
+
+nlohmann::json readJson(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+int objVertexCount(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) n += line.rfind("v ", 0) == 0;
+  return n;
 }
 
 }  // namespace s2p::test

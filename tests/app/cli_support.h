@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace s2p::test {
@@ -15,5 +16,9 @@ struct CliRun {
 CliRun runCli(const std::string& args, bool withStderr = true);
 // A path quoted for the shell.
 std::string q(const std::filesystem::path& p);
+// The JSON file at p (nlohmann's exception when it is not JSON).
+nlohmann::json readJson(const std::filesystem::path& p);
+// Vertices of an OBJ ("v " lines).
+int objVertexCount(const std::filesystem::path& p);
 
 }  // namespace s2p::test

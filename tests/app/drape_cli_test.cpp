@@ -1,6 +1,6 @@
-// `scan2pattern run --drape` sews and drapes its own pattern (issue 19): OUT/drape/draped.obj (every
-// placed panel, on the rest body), drape_compare.png and report.json's "drape" figures against
-// the scanned garment; a drape that cannot settle in its step budget is reported and never
+// `scan2pattern run --drape` sews and drapes its own pattern (issue 19): OUT/drape/draped.obj
+// (every placed panel, on the rest body), drape_compare.png and report.json's "drape" figures
+// against the scanned garment; a drape that cannot settle in its step budget is reported and never
 // written, the pattern files written all the same. (Without --drape: pattern_cli_test's demo.)
 #include <gtest/gtest.h>
 
@@ -17,20 +17,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::CliRun;
+using test::objVertexCount;
 using test::q;
-
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
-
-int objVertexCount(const fs::path& p) {
-  std::ifstream in(p);
-  std::string line;
-  int n = 0;
-  while (std::getline(in, line)) n += line.rfind("v ", 0) == 0;
-  return n;
-}
+using test::readJson;
 
 bool anyContains(const nlohmann::json& warnings, const std::string& what) {
   for (const auto& w : warnings)
@@ -95,8 +84,8 @@ TEST(DrapeCli, ADrapeThatDoesNotSettleInItsBudgetIsReportedAndNotWritten_Slow) {
   const fs::path again = dir.path() / "again";
   fs::create_directories(again / "drape");
   std::ofstream(again / "drape" / "draped.obj") << "# stale\n";
-  const CliRun r =
-      test::runCli("-q run --drape --remesh-edge 30 --drape-steps 3 " + q(scan) + " -o " + q(again));
+  const CliRun r = test::runCli("-q run --drape --remesh-edge 30 --drape-steps 3 " + q(scan) +
+                                " -o " + q(again));
   ASSERT_EQ(r.code, 0) << r.out;
   const nlohmann::json report = readJson(again / "report.json");
   const nlohmann::json& d = report.at("drape");

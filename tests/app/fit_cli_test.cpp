@@ -18,18 +18,15 @@ namespace {
 namespace fs = std::filesystem;
 using test::CliRun;
 using test::q;
-
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
+using test::readJson;
 
 // The fit's body.json feeds segment --body; eval scores both against the truth. The scan is
 // turned by 120° about the vertical, so body.json's frame (to_scan_file) is exercised.
 TEST(FitCli, FittedBodyFeedsSegmentAndMatchesTheTruth_Slow) {
   test::TempDir dir;
-  CliRun r = test::runCli("-q synth --preset tshirt_trousers --seed 5 --vertices 9000 --yaw 120 -o " +
-                          q(dir / "synth"));
+  CliRun r =
+      test::runCli("-q synth --preset tshirt_trousers --seed 5 --vertices 9000 --yaw 120 -o " +
+                   q(dir / "synth"));
   ASSERT_EQ(r.code, 0) << r.out;
   r = test::runCli("-q fit " + q(dir / "synth" / "scan.ply") + " --no-nonrigid -o " +
                    q(dir / "fit"));
@@ -45,8 +42,8 @@ TEST(FitCli, FittedBodyFeedsSegmentAndMatchesTheTruth_Slow) {
   r = test::runCli("-q segment " + q(dir / "synth" / "scan.ply") + " --body " +
                    q(dir / "fit" / "body.json") + " -o " + q(dir / "seg"));
   ASSERT_EQ(r.code, 0) << r.out;
-  r = test::runCli("eval --truth " + q(dir / "synth" / "truth.json") + " --pred " +
-                       q(dir / "seg") + " --body " + q(dir / "fit" / "body.json") + " --json",
+  r = test::runCli("eval --truth " + q(dir / "synth" / "truth.json") + " --pred " + q(dir / "seg") +
+                       " --body " + q(dir / "fit" / "body.json") + " --json",
                    false);
   ASSERT_EQ(r.code, 0) << r.out;
   const nlohmann::json e = nlohmann::json::parse(r.out);
@@ -58,8 +55,8 @@ TEST(FitCli, FittedBodyFeedsSegmentAndMatchesTheTruth_Slow) {
   // pose instead of the scan's extremities and lead to the same body.
   const nlohmann::json truth = readJson(dir / "synth" / "truth.json");
   nlohmann::json keypoints;
-  for (const char* j : {"pelvis", "neck", "left_wrist", "right_wrist", "left_elbow",
-                        "right_elbow", "left_ankle", "right_ankle"})
+  for (const char* j : {"pelvis", "neck", "left_wrist", "right_wrist", "left_elbow", "right_elbow",
+                        "left_ankle", "right_ankle"})
     keypoints[j] = truth["body"]["canonical"][j];
   test::writeFile(dir / "keypoints.json", keypoints.dump());
   r = test::runCli("-q fit " + q(dir / "synth" / "scan.ply") + " --no-nonrigid --keypoints " +
@@ -90,8 +87,8 @@ TEST(FitCli, RefusesWhatIsNotAPersonWithoutWritingAnything) {
     EXPECT_EQ(r.code, 3) << r.out;
     EXPECT_FALSE(fs::exists(out)) << cmd;
   }
-  const CliRun r = test::runCli("-q fit " + q(dir / "ball.ply") + " --model nosuchmodel -o " +
-                                q(dir / "m"));
+  const CliRun r =
+      test::runCli("-q fit " + q(dir / "ball.ply") + " --model nosuchmodel -o " + q(dir / "m"));
   EXPECT_NE(r.code, 0);
   EXPECT_FALSE(fs::exists(dir / "m"));
 }

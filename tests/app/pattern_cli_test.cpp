@@ -4,7 +4,6 @@
 // the clearance of the rest body. An unwritable output folder fails before any work. The demo
 // runs without --drape here (drape_cli_test.cpp checks the drape).
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -21,21 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::CliRun;
+using test::objVertexCount;
 using test::q;
-
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
-
-// Vertices of an OBJ ("v " lines).
-int objVertexCount(const fs::path& p) {
-  std::ifstream in(p);
-  std::string line;
-  int n = 0;
-  while (std::getline(in, line)) n += line.rfind("v ", 0) == 0;
-  return n;
-}
+using test::readJson;
 
 class DemoPattern : public ::testing::Test {
  protected:
@@ -56,16 +43,16 @@ CliRun* DemoPattern::run_ = nullptr;
 
 TEST_F(DemoPattern, WritesEveryPatternFile_Slow) {
   ASSERT_EQ(run_->code, 0) << run_->out;
-  for (const char* f : {"pattern.json", "pattern.svg", "pattern.pdf", "pattern.dxf", "pattern.png",
-                        "panels.obj", "stitches.json", "body_rest.obj", "panels_flat.obj",
-                        "flat.json", "panels.json"})
+  for (const char* f :
+       {"pattern.json", "pattern.svg", "pattern.pdf", "pattern.dxf", "pattern.png", "panels.obj",
+        "stitches.json", "body_rest.obj", "panels_flat.obj", "flat.json", "panels.json"})
     EXPECT_TRUE(fs::exists(pattern() / f) && fs::file_size(pattern() / f) > 0) << f;
   EXPECT_NE(run_->out.find("pattern.png"), std::string::npos) << "the demo names its picture";
   // No temporary file is left behind.
   for (const auto& e : fs::directory_iterator(pattern()))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
-  // Without --drape the drape stage is skipped: no drape/ folder, report.json says it did not run (checked
-  // here: a test of its own would run the demo once more under ctest).
+  // Without --drape the drape stage is skipped: no drape/ folder, report.json says it did not run
+  // (checked here: a test of its own would run the demo once more under ctest).
   EXPECT_FALSE(fs::exists(dir_->path() / "demo" / "drape"));
   const nlohmann::json report = readJson(dir_->path() / "demo" / "report.json");
   EXPECT_FALSE(report.at("drape").at("ran").get<bool>());
@@ -123,7 +110,10 @@ TEST(PatternCli, AnUnwritableOutputFolderFailsBeforeAnyWork) {
     f << "not a folder";
   }
   const fs::path scan = dir.path() / "scan.ply";
-  ASSERT_EQ(test::runCli("-q synth --preset tshirt_trousers --vertices 3000 -o " + q(dir.path() / "s")).code, 0);
+  ASSERT_EQ(
+      test::runCli("-q synth --preset tshirt_trousers --vertices 3000 -o " + q(dir.path() / "s"))
+          .code,
+      0);
   const CliRun r = test::runCli("-q run " + q(dir.path() / "s" / "scan.ply") + " -o " +
                                 q(dir.path() / "file" / "out"));
   EXPECT_EQ(r.code, 3) << r.out;  // ExitCode::Io

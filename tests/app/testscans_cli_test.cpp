@@ -18,11 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::CliRun;
 using test::q;
-
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
+using test::readJson;
 
 class TestScans : public ::testing::TestWithParam<const char*> {};
 
