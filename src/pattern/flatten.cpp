@@ -16,6 +16,7 @@
 #include "core/mesh_topology.h"
 #include "core/spd_solver.h"
 #include "pattern/flatten_metrics.h"
+#include "pattern/flip_repair.h"
 #include "pattern/grain_frame.h"
 
 namespace s2p {
@@ -83,20 +84,6 @@ Eigen::Matrix2d jacobianOf(const Eigen::MatrixX4d& J, int f) {
   Eigen::Matrix2d M;
   M << J(f, 0), J(f, 2), J(f, 1), J(f, 3);
   return M;
-}
-
-double signedArea2d(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& F, int f) {
-  const Eigen::Vector2d a = uv.row(F(f, 0)).transpose();
-  const Eigen::Vector2d b = uv.row(F(f, 1)).transpose() - a;
-  const Eigen::Vector2d c = uv.row(F(f, 2)).transpose() - a;
-  return 0.5 * (b.x() * c.y() - b.y() * c.x());
-}
-
-int invertedFaceCount(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& F) {
-  int count = 0;
-  for (int f = 0; f < F.rows(); ++f)
-    if (!(signedArea2d(uv, F, f) > 0.0)) ++count;
-  return count;
 }
 
 }  // namespace
@@ -270,7 +257,7 @@ Eigen::MatrixX2d bffImpl(const TriMesh& panel, const std::vector<int>& loop,
   // The curve turns counter-clockwise with the surface on its left, so faces keep their
   // orientation; mirror if a badly curved panel came out reversed.
   double signedArea = 0.0;
-  for (int f = 0; f < nF; ++f) signedArea += signedArea2d(uv, panel.F, f);
+  for (int f = 0; f < nF; ++f) signedArea += signedFaceArea(uv, panel.F, f);
   if (signedArea < 0.0) uv.col(0) = -uv.col(0);
   return uv;
 }
@@ -454,7 +441,7 @@ WarpWeftRefinement refineWithBoundary(const TriMesh& panel, const GrainFrames& f
   };
   double energy = 0.0;
   result.energyStart = localStep(energy);
-  int inverted = invertedFaceCount(result.uv, panel.F);
+  int inverted = countInvertedFaces(result.uv, panel.F);
   result.energyEnd = result.energyStart;
   Eigen::MatrixX2d rhs(nV, 2);
   for (int iter = 0; iter < options.refineIterations; ++iter) {
@@ -482,10 +469,16 @@ WarpWeftRefinement refineWithBoundary(const TriMesh& panel, const GrainFrames& f
     // A step that inverts more faces than the current iterate has (none, from a flip-free
     // start) is shortened (uv + t(next − uv), t = ½, ¼, ...); when no shortened step will do,
     // the current iterate is kept.
-    int nextInverted = invertedFaceCount(next, panel.F);
+    int nextInverted = countInvertedFaces(next, panel.F);
+    if (nextInverted > inverted) {
+      // A sliver the step folded is opened again in place (flip_repair.h) before the step is
+      // shortened: a panel whose truing folds one face would otherwise stop where it is.
+      repairFlips(next, panel.F, frames.area);
+      nextInverted = countInvertedFaces(next, panel.F);
+    }
     for (int halving = 0; nextInverted > inverted && halving < 6; ++halving) {
       next = 0.5 * (result.uv + next);
-      nextInverted = invertedFaceCount(next, panel.F);
+      nextInverted = countInvertedFaces(next, panel.F);
     }
     if (nextInverted > inverted) {
       ++result.rejectedIterations;
@@ -515,7 +508,7 @@ Eigen::MatrixX2d alignToGrain(const TriMesh& panel, const Eigen::Vector3d& grain
   double area = 0.0;
   for (int f = 0; f < panel.numFaces(); ++f) {
     warp += frames.area(f) * Eigen::Vector2d(J(f, 0), J(f, 1));
-    const double a = std::abs(signedArea2d(uv, panel.F, f));
+    const double a = std::abs(signedFaceArea(uv, panel.F, f));
     for (int k = 0; k < 3; ++k) centroid += (a / 3.0) * uv.row(panel.F(f, k)).transpose();
     area += a;
   }
@@ -547,6 +540,9 @@ PanelFlattening flattenPanel(const TriMesh& panel, const Eigen::Vector3d& grain,
   PanelFlattening out;
   out.boundary = checkFlattenablePanel(panel, name);
   Eigen::MatrixX2d uv = bffImpl(panel, out.boundary, name, &out.logScale);
+  // BFF's harmonic extension can fold slivers (negative cotan weights); the refinement only
+  // keeps what it starts from, so it starts flip-free.
+  out.bffInvertedFaces = repairFlips(uv, panel.F, faceAreas(panel)).invertedBefore;
   out.energyBff = warpWeftEnergy(panel, grain, uv, options.maxShear);
   out.energy = out.energyBff;
   out.uvBff = options.alignGrain ? alignToGrain(panel, grain, uv) : uv;

@@ -62,7 +62,7 @@ struct FlattenOptions {
 
 struct PanelFlattening {
   Eigen::MatrixX2d uv;              // #V×2, metres: the result (refined when options.refine)
-  Eigen::MatrixX2d uvBff;           // #V×2, metres: BFF alone, in the same frame conventions
+  Eigen::MatrixX2d uvBff;           // #V×2, metres: BFF (folds repaired), same frame conventions
   Eigen::VectorXd logScale;         // #V: BFF's conformal log scale factor u (0 on the boundary)
   std::vector<int> boundary;        // the boundary loop, vertex indices, counter-clockwise in uv
   double energyBff = 0.0;           // warp/weft energy Σ A‖J − T‖² of uvBff (m²)
@@ -70,6 +70,7 @@ struct PanelFlattening {
   int iterations = 0;               // local/global iterations run
   int rejectedIterations = 0;       // steps discarded because they inverted faces
   bool refinementReverted = false;  // the refined boundary overlapped itself: uv = uvBff
+  int bffInvertedFaces = 0;         // faces BFF folded, before their repair (flip_repair.h)
   double seconds = 0.0;             // wall time of flattenPanel
 };
 
