@@ -1,6 +1,6 @@
 #include "pattern/flip_repair.h"
 
-#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
@@ -97,7 +97,11 @@ class FlipRepairer {
  public:
   FlipRepairer(Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& F, const Eigen::VectorXd& area3d,
                const FlipRepairOptions& options)
-      : uv_(uv), F_(F), options_(options), adj_(adjacencyOf(F, static_cast<int>(uv.rows()))) {
+      : uv_(uv),
+        F_(F),
+        options_(options),
+        adj_(adjacencyOf(F, static_cast<int>(uv.rows()))),
+        outlineNeighbours_(outlineNeighboursOf(F, static_cast<int>(uv.rows()))) {
     // Each face's margin: its 3D area (floored at 1 % of the mean face) at the panel's own
     // 2D/3D scale, times areaMargin.
     const int nF = static_cast<int>(F.rows());
@@ -178,16 +182,24 @@ class FlipRepairer {
   }
 
   // Where every vertex of a fold has an empty kernel, the fold is opened by Tutte's embedding
-  // of the patch within `rings` rings of it: each vertex of the patch at the mean of its
-  // neighbours, the ring around the patch held. The panel's own boundary vertices are held too
-  // (the mean of a boundary vertex's neighbours lies inside and would pull the outline in). A
-  // convex patch rim gives a flip-free patch (Tutte 1963); a result that inverts more faces
-  // than it opens is undone.
+  // of the patch within `rings` rings of it: each inner vertex of the patch at the mean of its
+  // neighbours, the ring around the patch held. The panel's own boundary vertices are held
+  // first (the mean of a boundary vertex's neighbours lies inside and would pull the outline
+  // in); a fold on the outline itself is opened with them free, each at the mean of its two
+  // neighbours along the outline (the outline straightened locally). A convex patch rim gives a
+  // flip-free patch (Tutte 1963); a result that does not lower the count of inverted faces is
+  // undone.
   void smoothAround(int rings) {
-    const int nV = static_cast<int>(uv_.rows());
-    std::vector<char> inPatch(nV, 0);
-    std::vector<int> frontier = verticesOfInvertedFaces();
-    for (int v : frontier) inPatch[v] = 1;
+    for (const bool freeOutline : {false, true}) {
+      const std::vector<int> patch = patchAround(rings);
+      if (tutteOn(patch, freeOutline)) return;
+    }
+  }
+
+  std::vector<int> patchAround(int rings) const {
+    std::vector<char> inPatch(uv_.rows(), 0);
+    std::vector<int> patch = verticesOfInvertedFaces(), frontier = patch;
+    for (int v : patch) inPatch[v] = 1;
     for (int r = 0; r < rings; ++r) {
       std::vector<int> next;
       for (int v : frontier)
@@ -196,61 +208,71 @@ class FlipRepairer {
             inPatch[u] = 1;
             next.push_back(u);
           }
+      patch.insert(patch.end(), next.begin(), next.end());
       frontier = std::move(next);
     }
-    std::vector<char> held(nV, 1);
+    return patch;
+  }
+
+  bool tutteOn(const std::vector<int>& patch, bool freeOutline) {
+    const int nV = static_cast<int>(uv_.rows());
     std::vector<int> freeVertex, index(nV, -1);
-    for (int v = 0; v < nV; ++v)
-      if (inPatch[v] && !onPanelBoundary(v)) {
-        held[v] = 0;
+    for (int v : patch)
+      if (freeOutline || outlineNeighbours_[v].empty()) {
         index[v] = static_cast<int>(freeVertex.size());
         freeVertex.push_back(v);
       }
-    if (freeVertex.empty()) return;
+    if (freeVertex.empty()) return false;
     const int n = static_cast<int>(freeVertex.size());
     std::vector<Eigen::Triplet<double>> triplets;
-    Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(n, 2);
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
     for (int i = 0; i < n; ++i) {
       const int v = freeVertex[i];
-      triplets.emplace_back(i, i, static_cast<double>(adj_.neighbours[v].size()));
-      for (int u : adj_.neighbours[v]) {
-        if (held[u])
+      const std::vector<int>& around =
+          outlineNeighbours_[v].empty() ? adj_.neighbours[v] : outlineNeighbours_[v];
+      triplets.emplace_back(i, i, static_cast<double>(around.size()));
+      for (int u : around) {
+        if (index[u] < 0)
           rhs.row(i) += uv_.row(u);
         else
           triplets.emplace_back(i, index[u], -1.0);
       }
     }
+    // Not symmetric once outline rows are in (they see two neighbours only): LU.
     Eigen::SparseMatrix<double> A(n, n);
     A.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-    if (solver.info() != Eigen::Success) return;
-    const Eigen::MatrixXd x = solver.solve(Eigen::MatrixXd(rhs));
-    if (solver.info() != Eigen::Success || !x.allFinite()) return;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
+    solver.compute(A);
+    if (solver.info() != Eigen::Success) return false;
+    const Eigen::MatrixXd x = solver.solve(rhs);
+    if (solver.info() != Eigen::Success || !x.allFinite()) return false;
     const Eigen::MatrixX2d before = uv_;
     const int invertedBefore = countInvertedFaces(uv_, F_);
     for (int i = 0; i < n; ++i) uv_.row(freeVertex[i]) = x.row(i);
     if (countInvertedFaces(uv_, F_) >= invertedBefore) {
       uv_ = before;
-      return;
+      return false;
     }
     for (int v : freeVertex) mark(v);
+    return true;
   }
 
-  bool onPanelBoundary(int v) {
-    if (boundary_.empty()) {
-      // An edge used by one face is a boundary edge.
-      boundary_.assign(uv_.rows(), 0);
-      std::vector<std::pair<int, int>> edges;
-      for (int f = 0; f < F_.rows(); ++f)
-        for (int k = 0; k < 3; ++k) edges.push_back(std::minmax(F_(f, k), F_(f, (k + 1) % 3)));
-      std::sort(edges.begin(), edges.end());
-      for (size_t i = 0; i < edges.size(); ++i) {
-        const bool single = (i == 0 || edges[i - 1] != edges[i]) &&
-                            (i + 1 == edges.size() || edges[i + 1] != edges[i]);
-        if (single) boundary_[edges[i].first] = boundary_[edges[i].second] = 1;
-      }
+  // Per vertex, its neighbours along the panel's outline (edges used by one face); empty for
+  // inner vertices.
+  static std::vector<std::vector<int>> outlineNeighboursOf(const Eigen::MatrixX3i& F, int nV) {
+    std::vector<std::pair<int, int>> edges;
+    for (int f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) edges.push_back(std::minmax(F(f, k), F(f, (k + 1) % 3)));
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::vector<int>> out(nV);
+    for (size_t i = 0; i < edges.size(); ++i) {
+      const bool single = (i == 0 || edges[i - 1] != edges[i]) &&
+                          (i + 1 == edges.size() || edges[i + 1] != edges[i]);
+      if (!single) continue;
+      out[edges[i].first].push_back(edges[i].second);
+      out[edges[i].second].push_back(edges[i].first);
     }
-    return boundary_[v] != 0;
+    return out;
   }
 
   void mark(int v) {
@@ -263,7 +285,8 @@ class FlipRepairer {
   FlipRepairOptions options_;
   Adjacency adj_;
   std::vector<double> margin_;
-  std::vector<char> boundary_, moved_;
+  std::vector<std::vector<int>> outlineNeighbours_;
+  std::vector<char> moved_;
 };
 
 }  // namespace

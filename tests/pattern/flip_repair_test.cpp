@@ -88,6 +88,22 @@ TEST(FlipRepair, AFoldOfSeveralVerticesIsOpened) {
     }
 }
 
+TEST(FlipRepair, TwoOutlineVerticesSwappedAcrossEachOtherAreUnfolded) {
+  // Two neighbours on the grid's left edge swapped across each other, as an exact cut's corner
+  // slivers fold.
+  Grid g = makeGrid(8);
+  g.uv.row(g.at(0, 3)) << 0.1, 4.4;
+  g.uv.row(g.at(0, 4)) << 0.1, 2.6;
+  ASSERT_GT(countInvertedFaces(g.uv, g.F), 0);
+  const FlipRepairResult r = repairFlips(g.uv, g.F, g.area3d);
+  EXPECT_EQ(r.invertedAfter, 0);
+  EXPECT_EQ(countInvertedFaces(g.uv, g.F), 0);
+  // Far from the fold nothing moved: the right half of the grid is as it was.
+  const Grid original = makeGrid(8);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 4; i < 8; ++i) EXPECT_EQ(g.uv.row(g.at(i, j)), original.uv.row(original.at(i, j)));
+}
+
 TEST(FlipRepair, AFlipFreeLayoutIsLeftExactlyAsItIs) {
   Grid g = makeGrid(5);
   g.uv.row(g.at(2, 2)) << 2.3, 1.9;  // distorted, not folded
