@@ -192,10 +192,11 @@ namespace {
 
 json strainJson(const StrainSummary& s) { return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}}; }
 
-// Per face of the flattened panel: max(|warp − 1|, |weft − 1|).
-std::vector<double> faceStrain(const Panel& panel, const FlatPanel& fp) {
-  const GrainFrames frames = grainFrames(panel.mesh, fp.grain);
-  const Eigen::MatrixX4d J = grainJacobians(frames, panel.mesh.F, fp.uv);
+// Per face of the flattened panel: max(|warp − 1|, |weft − 1|), against the 3D panel as it
+// was flattened (scan noise filtered), as flat.json's warp and weft figures are.
+std::vector<double> faceStrain(const FlatPanel& fp) {
+  const GrainFrames frames = grainFrames(fp.surface, fp.grain);
+  const Eigen::MatrixX4d J = grainJacobians(frames, fp.surface.F, fp.uv);
   std::vector<double> out(J.rows());
   for (int f = 0; f < J.rows(); ++f)
     out[f] = std::max(std::abs(Eigen::Vector2d(J(f, 0), J(f, 1)).norm() - 1),
@@ -289,7 +290,7 @@ void writeFlatPattern(const fs::path& dir, const Scan& scan, const PanelsResult&
     sp.label = pieceName(p);
     sp.V = fp.uv;
     sp.F = p.mesh.F;
-    for (double s : faceStrain(p, fp)) sp.faceColour.push_back(colourAt(scale, s / kStrainMax));
+    for (double s : faceStrain(fp)) sp.faceColour.push_back(colourAt(scale, s / kStrainMax));
     Eigen::MatrixX2d outline(static_cast<int>(fp.remeshed.numBoundaryVertices), 2);
     for (int i = 0; i < fp.remeshed.numBoundaryVertices; ++i) outline.row(i) = fp.remeshed.V.row(i);
     sp.outlines.push_back(outline);

@@ -116,19 +116,27 @@ void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
     FlatPanel& fp = r.panels[p];
     if (!fp.error.empty() || targets[p].empty()) return;
     const TriMesh& mesh = fp.surface;
-    try {
-      Eigen::MatrixX2d trued =
-          trueBoundaryLengths(mesh, fp.grain, fp.uv, targets[p], options.flatten, options.truing);
-      if (options.flatten.alignGrain) trued = alignToGrain(mesh, fp.grain, trued);
-      // Truing moves the boundary: it must not come to overlap itself, but at its openings.
-      std::vector<std::pair<int, int>> crossings;
-      if (polygonSelfIntersects(trued, fp.flattening.boundary, &crossings) &&
-          !onlyOpeningsCross(panels.panels[p], fp.flattening.boundary, crossings))
-        failures[p] = "its trued outline overlapped itself";
-      else
+    // From the refined flattening first; where that overlaps itself, from BFF's, whose seams
+    // already have their 3D lengths (the strain fit of a panel that is far from developable,
+    // a sleeve on a bent arm, can move its two underarm edges 10 cm apart: too far to true).
+    for (const Eigen::MatrixX2d* start : {&fp.uv, &fp.flattening.uvBff}) {
+      try {
+        Eigen::MatrixX2d trued =
+            trueBoundaryLengths(mesh, fp.grain, *start, targets[p], options.flatten, options.truing);
+        if (options.flatten.alignGrain) trued = alignToGrain(mesh, fp.grain, trued);
+        // Truing moves the boundary: it must not come to overlap itself, but at its openings.
+        std::vector<std::pair<int, int>> crossings;
+        if (polygonSelfIntersects(trued, fp.flattening.boundary, &crossings) &&
+            !onlyOpeningsCross(panels.panels[p], fp.flattening.boundary, crossings)) {
+          failures[p] = "its trued outline overlapped itself";
+          continue;
+        }
         fp.uv = trued;
-    } catch (const Error& e) {
-      failures[p] = e.what();
+        failures[p].clear();
+        break;
+      } catch (const Error& e) {
+        failures[p] = e.what();
+      }
     }
   });
   for (size_t p = 0; p < failures.size(); ++p)
