@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/laplacian.h"
 #include "core/mesh_topology.h"
+#include "core/reduced_system.h"
 #include "core/spd_solver.h"
 #include "pattern/flatten_metrics.h"
 #include "pattern/flip_repair.h"
@@ -171,54 +172,32 @@ Eigen::MatrixX2d bffImpl(const TriMesh& panel, const std::vector<int>& loop,
   for (int f = 0; f < nF; ++f)
     for (int k = 0; k < 3; ++k) angleSum(panel.F(f, k)) += angles(f, k);
 
-  std::vector<int> boundaryIndex(nV, -1), interiorIndex(nV, -1), interiorVertex;
-  interiorVertex.reserve(nI);
-  for (int i = 0; i < nB; ++i) boundaryIndex[loop[i]] = i;
-  for (int v = 0; v < nV; ++v)
-    if (boundaryIndex[v] < 0) {
-      interiorIndex[v] = static_cast<int>(interiorVertex.size());
-      interiorVertex.push_back(v);
-    }
-
   Eigen::VectorXd kTilde(nB);  // target exterior angles
   for (int i = 0; i < nB; ++i) kTilde(i) = kPi - angleSum(loop[i]);
 
-  // Step 2: Laplacian blocks.
+  // Step 2: Laplacian blocks, the boundary known.
   const Eigen::SparseMatrix<double> L = cotanLaplacian(panel);
-  Eigen::SparseMatrix<double> Aii(nI, nI), Aib(nI, nB);
+  std::vector<char> onBoundary(nV, 0);
+  for (int v : loop) onBoundary[v] = 1;
+  const ReducedSystem system(L, onBoundary);
   SpdSolver solver;
-  Eigen::VectorXd uInterior;
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(nV);  // the log scale, 0 on the boundary
   if (nI > 0) {
-    std::vector<Eigen::Triplet<double>> tii, tib;
-    tii.reserve(L.nonZeros());
-    tib.reserve(3 * static_cast<size_t>(nB));
-    for (int c = 0; c < L.outerSize(); ++c)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(L, c); it; ++it) {
-        const int r = static_cast<int>(it.row());
-        if (interiorIndex[r] < 0) continue;
-        if (interiorIndex[c] >= 0)
-          tii.emplace_back(interiorIndex[r], interiorIndex[c], it.value());
-        else
-          tib.emplace_back(interiorIndex[r], boundaryIndex[c], it.value());
-      }
-    Aii.setFromTriplets(tii.begin(), tii.end());
-    Aib.setFromTriplets(tib.begin(), tib.end());
     try {
-      solver.compute(Aii);
+      solver.compute(system.freeBlock());
     } catch (const SolverError& e) {
       throw SolverError(fmt::format("panel '{}': the interior Laplacian cannot be factored ({})",
                                     name, e.what()));
     }
-    // Step 3: Dirichlet-to-Neumann with u_B = 0: A_II u_I = −K_I, k̃ = k + A_IBᵀ u_I.
+    // Step 3: Dirichlet-to-Neumann with u_B = 0: A_II u_I = −K_I, k̃ = k + A_IBᵀ u_I (the
+    // boundary rows of A u, A symmetric).
     Eigen::VectorXd minusK(nI);
-    for (int i = 0; i < nI; ++i) minusK(i) = -(2.0 * kPi - angleSum(interiorVertex[i]));
-    uInterior = solver.solve(minusK);
-    kTilde += Aib.transpose() * uInterior;
+    for (int i = 0; i < nI; ++i) minusK(i) = -(2.0 * kPi - angleSum(system.fullIndex(i)));
+    system.scatter(solver.solve(minusK), u);
+    const Eigen::VectorXd Au = L * u;
+    for (int i = 0; i < nB; ++i) kTilde(i) += Au(loop[i]);
   }
-  if (logScale) {
-    logScale->setZero(nV);
-    for (int i = 0; i < nI; ++i) (*logScale)(interiorVertex[i]) = uInterior(i);
-  }
+  if (logScale) *logScale = u;
 
   // Steps 4–5: boundary lengths kept (u = 0), tangents from k̃, closed by the projection.
   Eigen::VectorXd length(nB);
@@ -241,19 +220,14 @@ Eigen::MatrixX2d bffImpl(const TriMesh& panel, const std::vector<int>& loop,
           "length {:.3g} m); the panel is too curved or badly triangulated",
           name, i, closedLength(i)));
 
-  Eigen::MatrixX2d uv(nV, 2);
-  Eigen::MatrixX2d gamma(nB, 2);
+  Eigen::MatrixX2d uv = Eigen::MatrixX2d::Zero(nV, 2);
   Eigen::Vector2d p = Eigen::Vector2d::Zero();
   for (int i = 0; i < nB; ++i) {
-    gamma.row(i) = p.transpose();
     uv.row(loop[i]) = p.transpose();
     p += closedLength(i) * T.col(i);
   }
   // Step 6: harmonic extension of both coordinates, A_II x_I = −A_IB γ.
-  if (nI > 0) {
-    const Eigen::MatrixXd interior = solver.solve(Eigen::MatrixXd(-(Aib * gamma)));
-    for (int i = 0; i < nI; ++i) uv.row(interiorVertex[i]) = interior.row(i);
-  }
+  if (nI > 0) system.scatter(solver.solve(Eigen::MatrixXd(-system.knownPart(uv))), uv);
   // The curve turns counter-clockwise with the surface on its left, so faces keep their
   // orientation; mirror if a badly curved panel came out reversed.
   double signedArea = 0.0;
@@ -402,18 +376,11 @@ WarpWeftRefinement refineWithBoundary(const TriMesh& panel, const GrainFrames& f
   }
   Eigen::SparseMatrix<double> A(nV, nV);
   A.setFromTriplets(triplets.begin(), triplets.end());
-  const Eigen::VectorXd aPinned = A.col(pinned);  // A(:, pinned), moved to the right-hand side
-  auto reduced = [&](int v) { return v < pinned ? v : v - 1; };
-  triplets.clear();
-  for (int c = 0; c < A.outerSize(); ++c)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it) {
-      const int r = static_cast<int>(it.row());
-      if (r != pinned && c != pinned) triplets.emplace_back(reduced(r), reduced(c), it.value());
-    }
-  Eigen::SparseMatrix<double> Ar(nV - 1, nV - 1);
-  Ar.setFromTriplets(triplets.begin(), triplets.end());
+  std::vector<char> isPinned(nV, 0);
+  isPinned[pinned] = 1;
+  const ReducedSystem system(A, isPinned);
   SpdSolver solver;
-  solver.compute(Ar);
+  solver.compute(system.freeBlock());
 
   Eigen::MatrixX4d J = grainJacobians(frames, panel.F, result.uv);
   std::vector<Eigen::Matrix2d> target(nF);
@@ -456,15 +423,8 @@ WarpWeftRefinement refineWithBoundary(const TriMesh& panel, const GrainFrames& f
       rhs.row(bEdges[k][1]) += bWeight[k] * edgeTarget[k].transpose();
       rhs.row(bEdges[k][0]) -= bWeight[k] * edgeTarget[k].transpose();
     }
-    Eigen::MatrixXd b(nV - 1, 2);
-    const Eigen::RowVector2d pin = result.uv.row(pinned);
-    for (int v = 0; v < nV; ++v)
-      if (v != pinned) b.row(reduced(v)) = rhs.row(v) - aPinned(v) * pin;
-    const Eigen::MatrixXd x = solver.solve(b);
-    Eigen::MatrixX2d next(nV, 2);
-    next.row(pinned) = pin;
-    for (int v = 0; v < nV; ++v)
-      if (v != pinned) next.row(v) = x.row(reduced(v));
+    Eigen::MatrixX2d next = result.uv;  // the pinned vertex stays
+    system.scatter(solver.solve(system.rhs(rhs, result.uv)), next);
     ++result.iterations;
     // A step that inverts more faces than the current iterate has (none, from a flip-free
     // start) is shortened (uv + t(next − uv), t = ½, ¼, ...); when no shortened step will do,

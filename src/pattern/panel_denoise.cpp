@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/laplacian.h"
+#include "core/reduced_system.h"
 #include "core/spd_solver.h"
 
 namespace s2p {
@@ -122,13 +123,9 @@ TriMesh denoisePanel(const TriMesh& panel, const std::vector<int>& loop,
   }
 
   // === The interior with the boundary fixed: A_II x_I = M_I x0_I − A_IB x_B.
-  std::vector<int> index(nv, -1);  // interior index, −1 on the boundary
   std::vector<char> onBoundary(nv, 0);
   for (int v : loop) onBoundary[v] = 1;
-  int ni = 0;
-  for (int v = 0; v < nv; ++v)
-    if (!onBoundary[v]) index[v] = ni++;
-  if (ni == 0) return out;
+  if (static_cast<int>(loop.size()) == nv) return out;
   Eigen::VectorXd mass = vertexAreas(panel, MassType::Barycentric);
   const double floor = 1e-2 * mass.mean();  // slivers of the exact cuts: no huge M⁻¹
   mass = mass.cwiseMax(floor);
@@ -138,29 +135,16 @@ TriMesh denoisePanel(const TriMesh& panel, const std::vector<int>& loop,
   Eigen::VectorXd interiorInv = mass.cwiseInverse();
   for (int v = 0; v < nv; ++v)
     if (onBoundary[v]) interiorInv(v) = 0;
-  const Eigen::SparseMatrix<double> B = h4 * (L * interiorInv.asDiagonal() * L);
-  Triplets aii;
-  Eigen::MatrixX3d rhs(ni, 3);
-  for (int v = 0; v < nv; ++v)
-    if (index[v] >= 0) rhs.row(index[v]) = mass(v) * panel.V.row(v);
-  for (int c = 0; c < B.outerSize(); ++c)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(B, c); it; ++it) {
-      const int i = static_cast<int>(it.row()), j = static_cast<int>(it.col());
-      if (index[i] < 0) continue;
-      if (index[j] >= 0)
-        aii.emplace_back(index[i], index[j], it.value());
-      else
-        rhs.row(index[i]) -= it.value() * out.V.row(j);
-    }
-  for (int v = 0; v < nv; ++v)
-    if (index[v] >= 0) aii.emplace_back(index[v], index[v], mass(v));
-  Eigen::SparseMatrix<double> A(ni, ni);
-  A.setFromTriplets(aii.begin(), aii.end());
+  Triplets diagonal;
+  for (int v = 0; v < nv; ++v) diagonal.emplace_back(v, v, mass(v));
+  Eigen::SparseMatrix<double> M(nv, nv);
+  M.setFromTriplets(diagonal.begin(), diagonal.end());
+  const Eigen::SparseMatrix<double> A = h4 * (L * interiorInv.asDiagonal() * L) + M;
+  const ReducedSystem system(A, onBoundary);
   SpdSolver solver;
-  solver.compute(A);
-  const Eigen::MatrixXd x = solver.solve(Eigen::MatrixXd(rhs));
-  for (int v = 0; v < nv; ++v)
-    if (index[v] >= 0) out.V.row(v) = x.row(index[v]);
+  solver.compute(system.freeBlock());
+  const Eigen::MatrixXd x0 = mass.asDiagonal() * panel.V;
+  system.scatter(solver.solve(system.rhs(x0, out.V)), out.V);
   return out;
 }
 

@@ -1,9 +1,11 @@
 #include "segment/garment_completion.h"
 
 #include <Eigen/SparseCore>
+#include <algorithm>
 
 #include "core/error.h"
 #include "core/laplacian.h"
+#include "core/reduced_system.h"
 #include "core/spd_solver.h"
 
 namespace s2p {
@@ -18,8 +20,8 @@ Eigen::MatrixX3d biharmonicDeformation(const TriMesh& mesh, const std::vector<in
     throw InputError("garment completion: " + std::to_string(fixed.size()) + " fixed flags and " +
                      std::to_string(rimTargets.rows()) + " targets for " + std::to_string(n) +
                      " vertices and " + std::to_string(rim.size()) + " rim vertices");
-  // Known displacement per vertex (rim: towards its target; fixed: zero); −1 marks free.
-  std::vector<int> known(n, -1);
+  // Known displacement per vertex (rim: towards its target; fixed: zero).
+  std::vector<char> known(n, 0);
   Eigen::MatrixX3d D = Eigen::MatrixX3d::Zero(n, 3);
   for (int v = 0; v < n; ++v)
     if (fixed[v]) known[v] = 1;
@@ -31,12 +33,7 @@ Eigen::MatrixX3d biharmonicDeformation(const TriMesh& mesh, const std::vector<in
     known[v] = 1;
     D.row(v) = rimTargets.row(static_cast<int>(i)) - mesh.V.row(v);
   }
-  std::vector<int> freeIndex(n, -1);
-  int nf = 0;
-  for (int v = 0; v < n; ++v)
-    if (known[v] < 0) freeIndex[v] = nf++;
-  Eigen::MatrixX3d out = mesh.V + D;
-  if (nf == 0) return out;
+  if (std::count(known.begin(), known.end(), 1) == n) return mesh.V + D;
 
   const Eigen::SparseMatrix<double> L = cotanLaplacian(mesh);
   const Eigen::VectorXd area = vertexAreas(mesh);
@@ -44,27 +41,15 @@ Eigen::MatrixX3d biharmonicDeformation(const TriMesh& mesh, const std::vector<in
       L * area.cwiseInverse().asDiagonal() * L;  // ∫(Δu)² with the lumped mass
   // Q_ff d_f = −Q_fc d_c; a tiny mass term keeps free islands without constraints at rest.
   const double eps = 1e-10 * Q.diagonal().cwiseAbs().mean();
-  std::vector<Eigen::Triplet<double>> ff;
-  Eigen::MatrixX3d rhs = Eigen::MatrixX3d::Zero(nf, 3);
-  for (int k = 0; k < Q.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(Q, k); it; ++it) {
-      const int r = static_cast<int>(it.row()), c = static_cast<int>(it.col());
-      if (freeIndex[r] < 0) continue;
-      if (freeIndex[c] >= 0)
-        ff.emplace_back(freeIndex[r], freeIndex[c], it.value());
-      else
-        rhs.row(freeIndex[r]) -= it.value() * D.row(c);
-    }
-  for (int v = 0; v < n; ++v)
-    if (freeIndex[v] >= 0) ff.emplace_back(freeIndex[v], freeIndex[v], eps);
-  Eigen::SparseMatrix<double> A(nf, nf);
-  A.setFromTriplets(ff.begin(), ff.end());
+  const ReducedSystem system(Q, known);
+  Eigen::SparseMatrix<double> A = system.freeBlock();
+  Eigen::SparseMatrix<double> I(A.rows(), A.cols());
+  I.setIdentity();
+  A += eps * I;
   SpdSolver solver;
   solver.compute(A);
-  const Eigen::MatrixXd Df = solver.solve(Eigen::MatrixXd(rhs));
-  for (int v = 0; v < n; ++v)
-    if (freeIndex[v] >= 0) out.row(v) = mesh.V.row(v) + Df.row(freeIndex[v]);
-  return out;
+  system.scatter(solver.solve(Eigen::MatrixXd(-system.knownPart(D))), D);
+  return mesh.V + D;
 }
 
 }  // namespace s2p
