@@ -1,6 +1,7 @@
 #include "app/run_pipeline.h"
 
 #include <fmt/format.h>
+#include <tbb/task_group.h>
 
 #include <chrono>
 
@@ -111,23 +112,47 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
 void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& model,
               const RunOutput& run, Progress& progress, const PrintOptions& print) {
   progress.begin("write outputs");
-  writeFit(dir / "fit", scan.scan, model, run.fit);
-  writeSegmentation(dir / "segment", scan.scan, run.segment);
-  // A pattern file that cannot be written still leaves report.json beside fit/ and segment/.
-  std::exception_ptr writeError;
+  // The folders' writers read the run and write files of their own, mostly pictures and PDFs
+  // drawn on one thread each: they run side by side (on a 50k scan, 3.3 s one after another).
+  // Each folder is made first, so that no two writers race to create it.
+  for (const char* sub : {"fit", "segment", "pattern"}) fs::create_directories(dir / sub);
+  std::exception_ptr fitError, segmentError, patternError;
+  const auto guarded = [](std::exception_ptr& error, const auto& write) {
+    return [&error, &write] {
+      try {
+        write();
+      } catch (const Error&) {
+        error = std::current_exception();
+      }
+    };
+  };
+  const auto fit = [&] { writeFit(dir / "fit", scan.scan, model, run.fit); };
+  const auto segment = [&] { writeSegmentation(dir / "segment", scan.scan, run.segment); };
+  const auto panels = [&] { writePanels(dir / "pattern", scan.scan, run.pattern.panels); };
+  const auto flat = [&] {
+    writeFlatPattern(dir / "pattern", scan.scan, run.pattern.panels, run.pattern.flat);
+  };
+  std::exception_ptr panelsError, flatError, filesError;
+  const auto files = [&] {
+    writePatternFiles(dir / "pattern", scan.scan, run.pattern, print);
+    writeDrape(dir / "drape", run);
+  };
+  tbb::task_group writers;
+  writers.run(guarded(fitError, fit));
+  writers.run(guarded(segmentError, segment));
   if (!run.patternError) {
-    try {
-      writePanels(dir / "pattern", scan.scan, run.pattern.panels);
-      writeFlatPattern(dir / "pattern", scan.scan, run.pattern.panels, run.pattern.flat);
-      writePatternFiles(dir / "pattern", scan.scan, run.pattern, print);
-      writeDrape(dir / "drape", run);
-    } catch (const Error&) {
-      writeError = std::current_exception();
-    }
+    writers.run(guarded(panelsError, panels));
+    writers.run(guarded(flatError, flat));
+    writers.run(guarded(filesError, files));
   }
+  writers.wait();
+  if (fitError) std::rethrow_exception(fitError);
+  if (segmentError) std::rethrow_exception(segmentError);
+  // A pattern file that cannot be written still leaves report.json beside fit/ and segment/.
   writeJson(dir / "report.json", runReport(scan, model, run));
   progress.end();
-  if (writeError) std::rethrow_exception(writeError);
+  for (const std::exception_ptr& e : {panelsError, flatError, filesError})
+    if (e) std::rethrow_exception(e);
 }
 
 void printRun(const RunOutput& run, const fs::path& dir) {
