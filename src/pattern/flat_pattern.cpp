@@ -78,10 +78,11 @@ std::vector<SeamPair> seamPairs(const PanelsResult& panels) {
   return pairs;
 }
 
-// Whether every crossing of a flattened boundary lies between two segments of openings (hems,
-// cuffs): those are untangled after the outline fit (untangleOpenings), so a truing whose only
-// overlaps are there is kept; a seam edge that crosses anything is not.
-bool onlyOpeningsCross(const Panel& panel, const std::vector<int>& boundary,
+// Whether every crossing of a flattened boundary involves a segment of an opening (a hem, a
+// cuff, a frilly neckline folded over a side seam): openings are untangled after the outline fit
+// (untangleOpenings, which undoes the truing when it cannot), so a truing whose overlaps are
+// there is kept; two seam edges that cross are not.
+bool openingsInEveryCrossing(const Panel& panel, const std::vector<int>& boundary,
                        const std::vector<std::pair<int, int>>& crossings) {
   std::map<std::pair<int, int>, bool> opening;  // boundary segment (min, max) → on an opening
   for (const PanelEdge& e : panel.edges)
@@ -93,7 +94,7 @@ bool onlyOpeningsCross(const Panel& panel, const std::vector<int>& boundary,
     return it != opening.end() && it->second;
   };
   for (const auto& [i, j] : crossings)
-    if (!isOpening(i) || !isOpening(j)) return false;
+    if (!isOpening(i) && !isOpening(j)) return false;
   return true;
 }
 
@@ -127,7 +128,7 @@ void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
         // Truing moves the boundary: it must not come to overlap itself, but at its openings.
         std::vector<std::pair<int, int>> crossings;
         if (polygonSelfIntersects(trued, fp.flattening.boundary, &crossings) &&
-            !onlyOpeningsCross(panels.panels[p], fp.flattening.boundary, crossings)) {
+            !openingsInEveryCrossing(panels.panels[p], fp.flattening.boundary, crossings)) {
           failures[p] = "its trued outline overlapped itself";
           continue;
         }
