@@ -41,6 +41,14 @@ TEST_P(TestScans, RunMakesAWholePatternWithGarmentIoU95_Slow) {
     for (const char* lost : {"not remeshed", "not flattened", "makes no pattern"})
       EXPECT_EQ(s.find(lost), std::string::npos) << GetParam() << ": " << s;
   }
+  // A pattern that sews: every stitched pair's two edges within 2 mm, no folded triangle.
+  const nlohmann::json flat = readJson(out / "run" / "pattern" / "flat.json");
+  for (const auto& pair : flat["stitched_pairs"])
+    EXPECT_LE(pair["difference_mm"].get<double>(), 2.0)
+        << GetParam() << ": " << pair["a"].dump() << " and " << pair["b"].dump();
+  for (const auto& panel : flat["panels"])
+    EXPECT_EQ(panel.value("inverted_faces", -1), 0)
+        << GetParam() << ": " << panel.value("garment", "") << " " << panel.value("name", "");
   const CliRun e =
       test::runCli("eval --truth " + q(dir / (std::string(GetParam()) + ".truth.json")) +
                        " --pred " + q(out / "run" / "segment") + " --json",
