@@ -138,7 +138,7 @@ TriMesh denoisePanel(const TriMesh& panel, const std::vector<int>& loop,
   Eigen::VectorXd interiorInv = mass.cwiseInverse();
   for (int v = 0; v < nv; ++v)
     if (onBoundary[v]) interiorInv(v) = 0;
-  const Eigen::SparseMatrix<double> B = h4 * (L * interiorInv.asDiagonal() * L);
+  const Eigen::SparseMatrix<double> B = h4 * laplacianSquared(L, interiorInv);
   Triplets aii;
   Eigen::MatrixX3d rhs(ni, 3);
   for (int v = 0; v < nv; ++v)
