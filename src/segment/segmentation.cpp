@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <type_traits>
 
 #include "core/colour.h"
 #include "core/error.h"
@@ -16,6 +17,7 @@
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 #include "core/stage_error.h"
+#include "segment/coarse_mesh.h"
 #include "segment/garment_completion.h"
 #include "segment/mesh_cut.h"
 #include "segment/surface_spline.h"
@@ -758,10 +760,76 @@ class Segmenter {
     }
   }
 
+  // The boundary optimised on `stage`, or on a decimated copy of it when it is large (the
+  // curves carried back), and the stage cut exactly along it.
   std::pair<BoundaryRun, CutResult> optimiseAndCutOnce(const Stage& stage, const BoundaryJob& job) {
     const auto t0 = Clock::now();
+    progress_.begin(fmt::format("boundary {}", job.curve->name));
+    const std::optional<CoarseMesh> coarse =
+        options_.coarseVertices > 0 ? decimatedCopy(stage.mesh, options_.coarseVertices)
+                                    : std::nullopt;
+    double coarseSeconds = secondsSince(t0);
+    BoundaryRun run;
+    if (coarse) {
+      const Stage copy = coarseStage(stage, *coarse);
+      run = optimise(copy, job);
+      const auto t1 = Clock::now();
+      carryToFine(run, copy.mesh, stage.mesh);
+      coarseSeconds += secondsSince(t1);
+    } else {
+      run = optimise(stage, job);
+    }
+    run.report.coarseSeconds = coarseSeconds;
+    run.report.optimisedVertices = coarse ? coarse->mesh.numVertices() : stage.mesh.numVertices();
+    CutResult cut = cutAlongIsoline(stage.mesh, awayFromZero(run.result.phi, stage.mesh));
+    run.report.seconds = secondsSince(t0);
+    progress_.end();
+    return {std::move(run), std::move(cut)};
+  }
+
+  // The part of the scan `stage` restricted to the vertices of its decimated copy.
+  static Stage coarseStage(const Stage& stage, const CoarseMesh& coarse) {
+    const auto rows = [&](const auto& m) {
+      using M = std::decay_t<decltype(m)>;
+      M out(coarse.fineVertex.size(), m.cols());
+      for (int v = 0; v < coarse.fineVertex.size(); ++v) out.row(v) = m.row(coarse.fineVertex[v]);
+      return out;
+    };
+    Stage s;
+    s.mesh = coarse.mesh;
+    s.lab = rows(stage.lab);
+    s.srgb = rows(stage.srgb);
+    if (stage.step.size() > 0) {
+      s.offset = rows(stage.offset);
+      s.step = rows(stage.step);
+    }
+    s.scanVertex = rows(stage.scanVertex);
+    return s;  // faceOrigin stays empty: a copy's faces lie in no one scan face
+  }
+
+  // φ₀ and φ of a boundary optimised on a decimated copy carried to the full mesh `fine` (each
+  // vertex takes the value at its closest point on the copy), and the curves re-extracted there:
+  // what is cut and reported is the full mesh's zero isoline.
+  static void carryToFine(BoundaryRun& run, const TriMesh& coarse, const TriMesh& fine) {
+    const CoarseToFine map(coarse, fine);
+    const MeshTopology topology(fine.F, fine.numVertices());
+    BoundaryResult& r = run.result;
+    r.phi = map.carry(r.phi);
+    r.boundary = extractIsoline(fine, topology, r.phi);
+    if (r.phi0.size() > 0) {
+      r.phi0 = map.carry(r.phi0);
+      r.initial = extractIsoline(fine, topology, r.phi0);
+    }
+    BoundaryReport& rep = run.report;
+    rep.initialCurves = curvePolylines(r.initial, rep.initialClosed);
+    rep.finalCurves = curvePolylines(r.boundary, rep.finalClosed);
+    rep.otherLabels.assign(rep.finalCurves.size(), rep.other);
+  }
+
+  // Algorithm 1 for one boundary on `stage` (the part of the scan left, or its decimated copy),
+  // with the second pass of §5.2 and the islands merged; not cut.
+  BoundaryRun optimise(const Stage& stage, const BoundaryJob& job) {
     const ProjectedCurve& curve = *job.curve;
-    progress_.begin(fmt::format("boundary {}", curve.name));
     BoundaryRun run;
     BoundaryReport& rep = run.report;
     rep.name = curve.name;
@@ -786,11 +854,8 @@ class Segmenter {
           curve.numSigns));
       run.result.phi0 = run.result.phi = Eigen::VectorXd::Constant(stage.mesh.numVertices(), -1.0);
       run.result.converged = true;
-      CutResult cut = cutAlongIsoline(stage.mesh, run.result.phi);
       rep.converged = true;
-      rep.seconds = secondsSince(t0);
-      progress_.end();
-      return {std::move(run), std::move(cut)};
+      return run;
     }
     std::vector<GaussianMixture> models;
     for (int r : job.regions) models.push_back(colours_.models[r]);
@@ -864,10 +929,7 @@ class Segmenter {
     rep.initialCurves = curvePolylines(run.result.initial, rep.initialClosed);
     rep.finalCurves = curvePolylines(run.result.boundary, rep.finalClosed);
     rep.otherLabels.assign(rep.finalCurves.size(), job.other);
-    CutResult cut = cutAlongIsoline(stage.mesh, awayFromZero(run.result.phi, stage.mesh));
-    rep.seconds = secondsSince(t0);
-    progress_.end();
-    return {std::move(run), std::move(cut)};
+    return run;
   }
 
   // B(L|S) borders skin or shoes: the reported curves are split where the label of the

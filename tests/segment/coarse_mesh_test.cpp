@@ -1,0 +1,61 @@
+#include "segment/coarse_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/mesh_topology.h"
+#include "core/shapes.h"
+#include "segment/isoline.h"
+
+namespace s2p {
+namespace {
+
+// Icosphere level 6: 40,962 vertices on the unit sphere scaled to a person's size (r = 0.3 m).
+const TriMesh& fineSphere() {
+  static const TriMesh m = makeIcosphere(6, 0.3);
+  return m;
+}
+
+TEST(CoarseMesh, CopyHasAboutTheTargetVerticesTakenFromTheFineMesh) {
+  const TriMesh& fine = fineSphere();
+  const std::optional<CoarseMesh> c = decimatedCopy(fine, 5000);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->mesh.numVertices(), 5000, 1000);
+  ASSERT_EQ(c->fineVertex.size(), c->mesh.numVertices());
+  for (int v = 0; v < c->mesh.numVertices(); ++v)
+    EXPECT_EQ(c->mesh.V.row(v), fine.V.row(c->fineVertex[v])) << v;
+  // Still a closed manifold sphere of the same area (within the chords' shortfall).
+  const MeshTopology topo(c->mesh.F, c->mesh.numVertices());
+  EXPECT_TRUE(topo.manifoldness().isManifold());
+  EXPECT_TRUE(topo.isClosed());
+  EXPECT_EQ(topo.eulerCharacteristic(), 2);
+  EXPECT_NEAR(surfaceArea(c->mesh), surfaceArea(fine), 0.01 * surfaceArea(fine));
+}
+
+TEST(CoarseMesh, SmallMeshesAndBadTargetsAreNotDecimated) {
+  EXPECT_FALSE(decimatedCopy(fineSphere(), 30000).has_value());  // 40,962 ≤ 1.5 × 30,000
+  EXPECT_THROW(decimatedCopy(fineSphere(), 10), InputError);
+}
+
+TEST(CoarseMesh, ALinearFieldIsCarriedBackAndItsIsolineStaysPut) {
+  const TriMesh& fine = fineSphere();
+  const std::optional<CoarseMesh> c = decimatedCopy(fine, 5000);
+  ASSERT_TRUE(c.has_value());
+  // φ = y − 0.1 on the copy, carried to the fine mesh: the fine zero isoline is the circle
+  // y = 0.1 up to how far the copy's chords lie inside the sphere (a few tenths of a mm).
+  const Eigen::VectorXd coarsePhi = c->mesh.V.col(1).array() - 0.1;
+  const CoarseToFine map(c->mesh, fine);
+  EXPECT_LT(map.distance().maxCoeff(), 1e-3);
+  const Eigen::VectorXd phi = map.carry(coarsePhi);
+  ASSERT_EQ(phi.size(), fine.numVertices());
+  const Isoline iso = extractIsoline(fine, phi);
+  ASSERT_EQ(iso.curves.size(), 1u);
+  for (const IsolinePoint& p : iso.curves[0].points) EXPECT_NEAR(p.position.y(), 0.1, 5e-4);
+  const double radius = std::sqrt(0.3 * 0.3 - 0.1 * 0.1);
+  EXPECT_NEAR(iso.length(), 2 * M_PI * radius, 2e-3);
+}
+
+}  // namespace
+}  // namespace s2p
