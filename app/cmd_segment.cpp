@@ -62,7 +62,7 @@ SegmentationOptions segmentationOptions(bool faithful, bool noGapFilling, int co
   return options;
 }
 
-// --coarse-vertices: 0, or enough vertices for a person (segment/coarse_mesh.h).
+// --coarse-vertices: 0, or enough vertices for a person (core/coarse_mesh.h).
 void addCoarseOption(CLI::App* cmd, int& coarseVertices) {
   cmd->add_option("--coarse-vertices", coarseVertices,
                   "Optimise the boundaries of a scan with more than 1.5x this many vertices on a "

@@ -84,7 +84,7 @@ struct SegmentationOptions {
   // ~0.03 m², a shoe ~0.05 m²).
   double minRegionArea = 0.01;
   // Issue 17: a part of the scan with more than 1.5 × this many vertices has its boundary
-  // optimised on a decimated copy of about this many (segment/coarse_mesh.h), and is cut
+  // optimised on a decimated copy of about this many (core/coarse_mesh.h), and is cut
   // exactly along it on the full mesh; 0 optimises every boundary at full resolution.
   int coarseVertices = 100000;
 };

@@ -1,4 +1,4 @@
-#include "segment/coarse_mesh.h"
+#include "core/coarse_mesh.h"
 
 #include <meshoptimizer.h>
 
