@@ -33,7 +33,6 @@ struct SegmentCommand {
   LoadOptions load;
 };
 
-
 json truthBody(const fs::path& truth) {
   const json t = readJsonFile(truth, "truth file");
   if (!t.contains("body") || !t["body"].is_object())
@@ -82,9 +81,9 @@ int runSegment(const SegmentCommand& cmd, Progress& progress) {
   const PosedFeatures body =
       poseBodyForScan(bodyJson, loaded.scan, progress,
                       cmd.body.empty() ? fs::path() : fs::absolute(cmd.body).parent_path());
-  const SegmentOutput result =
-      runSegmenter(cmd.segmenter, loaded.scan, body,
-                   segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices), progress);
+  const SegmentOutput result = runSegmenter(
+      cmd.segmenter, loaded.scan, body,
+      segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices), progress);
   progress.begin("write outputs");
   writeSegmentation(cmd.out, loaded.scan, result);
   progress.end();
@@ -131,7 +130,8 @@ std::pair<double, double> boundaryDifference(const fs::path& ours, const fs::pat
 int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
   checkSegmenter(cmd.segmenter);
   const std::vector<fs::path> truths = suiteTruths(cmd.suiteDir, cmd.only);
-  const SegmentationOptions options = segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices);
+  const SegmentationOptions options =
+      segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices);
   json rows = json::array();
   std::string table =
       "| preset | layout | occlusion | garment IoU | boundary mean mm | worst p95 mm | worst "

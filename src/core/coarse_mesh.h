@@ -39,8 +39,8 @@ class CoarseToFine {
   const Eigen::VectorXd& distance() const { return distance_; }
 
  private:
-  Eigen::MatrixX3i corner_;  // #V fine × 3: coarse vertices of the face holding the closest point
-  Eigen::MatrixX3d weight_;  // #V fine × 3: their barycentric weights
+  Eigen::MatrixX3i corner_;   // #V fine × 3: coarse vertices of the face holding the closest point
+  Eigen::MatrixX3d weight_;   // #V fine × 3: their barycentric weights
   Eigen::VectorXd distance_;  // #V fine
 };
 

@@ -11,13 +11,13 @@
 #include <optional>
 #include <type_traits>
 
+#include "core/coarse_mesh.h"
 #include "core/colour.h"
 #include "core/error.h"
 #include "core/laplacian.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 #include "core/stage_error.h"
-#include "core/coarse_mesh.h"
 #include "segment/garment_completion.h"
 #include "segment/mesh_cut.h"
 #include "segment/surface_spline.h"
