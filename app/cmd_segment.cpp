@@ -29,9 +29,9 @@ struct SegmentCommand {
   std::string segmenter = "curve";
   bool faithful = false;
   bool noGapFilling = false;
+  int coarseVertices = SegmentationOptions{}.coarseVertices;
   LoadOptions load;
 };
-
 
 json truthBody(const fs::path& truth) {
   const json t = readJsonFile(truth, "truth file");
@@ -53,11 +53,22 @@ void checkSegmenter(const std::string& segmenter) {
     throw CLI::ValidationError("--segmenter", "use curve (the paper's method) or mrf");
 }
 
-SegmentationOptions segmentationOptions(bool faithful, bool noGapFilling) {
+SegmentationOptions segmentationOptions(bool faithful, bool noGapFilling, int coarseVertices) {
   SegmentationOptions options;
   options.boundary.faithful = faithful;
   options.gapFilling = !noGapFilling;
+  options.coarseVertices = coarseVertices;
   return options;
+}
+
+// --coarse-vertices: 0, or enough vertices for a person (core/coarse_mesh.h).
+void addCoarseOption(CLI::App* cmd, int& coarseVertices) {
+  cmd->add_option("--coarse-vertices", coarseVertices,
+                  "Optimise the boundaries of a scan with more than 1.5x this many vertices on a "
+                  "decimated copy of about this many, then cut the full scan exactly along them; "
+                  "0: at full resolution")
+      ->check(CLI::Range(0, 0) | CLI::Range(1000, 100000000))
+      ->capture_default_str();
 }
 
 int runSegment(const SegmentCommand& cmd, Progress& progress) {
@@ -70,9 +81,9 @@ int runSegment(const SegmentCommand& cmd, Progress& progress) {
   const PosedFeatures body =
       poseBodyForScan(bodyJson, loaded.scan, progress,
                       cmd.body.empty() ? fs::path() : fs::absolute(cmd.body).parent_path());
-  const SegmentOutput result =
-      runSegmenter(cmd.segmenter, loaded.scan, body,
-                   segmentationOptions(cmd.faithful, cmd.noGapFilling), progress);
+  const SegmentOutput result = runSegmenter(
+      cmd.segmenter, loaded.scan, body,
+      segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices), progress);
   progress.begin("write outputs");
   writeSegmentation(cmd.out, loaded.scan, result);
   progress.end();
@@ -95,6 +106,7 @@ struct SuiteCommand {
   std::string reference;  // an earlier segment-suite output to compare boundaries with
   bool faithful = false;
   bool noGapFilling = false;
+  int coarseVertices = SegmentationOptions{}.coarseVertices;
 };
 
 // Mean and worst p95 distance (m) between this run's boundary curves and a reference run's,
@@ -118,7 +130,8 @@ std::pair<double, double> boundaryDifference(const fs::path& ours, const fs::pat
 int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
   checkSegmenter(cmd.segmenter);
   const std::vector<fs::path> truths = suiteTruths(cmd.suiteDir, cmd.only);
-  const SegmentationOptions options = segmentationOptions(cmd.faithful, cmd.noGapFilling);
+  const SegmentationOptions options =
+      segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices);
   json rows = json::array();
   std::string table =
       "| preset | layout | occlusion | garment IoU | boundary mean mm | worst p95 mm | worst "
@@ -203,6 +216,7 @@ void addSegmentCommand(CLI::App& app, Commands& out) {
                 "regularised isoline, reaches the same boundaries on the benchmark suite)");
   cmd->add_flag("--no-gap-filling", o->noGapFilling,
                 "Skip the second pass for gap-filling triangles (§5.2)");
+  addCoarseOption(cmd, o->coarseVertices);
   addLoadOptions(cmd, o->load);
   out.push_back({cmd, [o](Progress& progress) { return runSegment(*o, progress); }});
 
@@ -220,6 +234,7 @@ void addSegmentCommand(CLI::App& app, Commands& out) {
                     "An earlier segment-suite output: adds the distance between its boundaries "
                     "and this run's (e.g. faithful path against fast)");
   suite->add_flag("--no-gap-filling", so->noGapFilling, "Skip the gap-filling pass (§5.2)");
+  addCoarseOption(suite, so->coarseVertices);
   out.push_back({suite, [so](Progress& progress) { return runSegmentSuite(*so, progress); }});
 }
 

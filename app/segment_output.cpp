@@ -132,6 +132,8 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                     {"converged", b.converged},
                     {"vanished", b.vanished},
                     {"seconds", b.seconds},
+                    {"optimised_vertices", b.optimisedVertices},
+                    {"coarse_seconds", b.coarseSeconds},
                     {"anchors", b.anchors},
                     {"dropped_anchors", b.droppedAnchors},
                     {"sign_points", b.signs},
@@ -266,9 +268,11 @@ void printSegmentation(const Segmentation& s) {
   fmt::print("layout {}, occlusion {}, shoes {}; {:.1f} s\n", toString(s.layout),
              toString(s.occlusion), s.shoes ? "yes" : "no", s.seconds);
   for (const BoundaryReport& b : s.boundaries)
-    fmt::print("  {:4} {:3} iterations{}, {} curve(s), {:.2f} s{}\n", b.name, b.iterations,
-               b.converged ? "" : " (not converged)", b.finalCurves.size(), b.seconds,
-               b.gapApplied ? fmt::format(", gap pass moved it {:.0f} mm", 1000 * b.gapShift) : "");
+    fmt::print("  {:4} {:3} iterations{}, {} curve(s), {:.2f} s{}, optimised on {} vertices\n",
+               b.name, b.iterations, b.converged ? "" : " (not converged)", b.finalCurves.size(),
+               b.seconds,
+               b.gapApplied ? fmt::format(", gap pass moved it {:.0f} mm", 1000 * b.gapShift) : "",
+               b.optimisedVertices);
   for (const GarmentPiece& g : s.garments)
     fmt::print("  {:8} {} faces, {:.3f} m²{}\n", g.name, g.mesh.numFaces(), surfaceArea(g.mesh),
                g.occluded ? fmt::format(" ({:.3f} m² completed under the other garment)",

@@ -202,4 +202,45 @@ Eigen::SparseMatrix<double> divergenceOperator(const TriMesh& mesh) {
   return D;
 }
 
+Eigen::SparseMatrix<double> laplacianSquared(const Eigen::SparseMatrix<double>& L,
+                                             const Eigen::VectorXd& weight) {
+  const Eigen::Index n = L.cols();
+  if (L.rows() != n || weight.size() != n)
+    throw InputError(fmt::format("laplacianSquared: a {}×{} matrix with {} weights", L.rows(),
+                                 L.cols(), weight.size()));
+  using Sparse = Eigen::SparseMatrix<double>;
+  // Column j of L·W·L is Σ_k L(:, k)·w_k·L(k, j); L is symmetric, so L(:, k) is column k.
+  std::vector<double> sum(static_cast<size_t>(n), 0.0);
+  std::vector<Eigen::Index> seenIn(static_cast<size_t>(n), -1);  // column that last touched row i
+  std::vector<int> rows;
+  std::vector<int> outer(static_cast<size_t>(n) + 1, 0), inner;
+  std::vector<double> values;
+  inner.reserve(static_cast<size_t>(4 * L.nonZeros()));
+  values.reserve(static_cast<size_t>(4 * L.nonZeros()));
+  for (Eigen::Index j = 0; j < n; ++j) {
+    rows.clear();
+    for (Sparse::InnerIterator a(L, j); a; ++a) {
+      const Eigen::Index k = a.row();
+      const double wkj = weight[k] * a.value();
+      for (Sparse::InnerIterator b(L, k); b; ++b) {
+        const Eigen::Index i = b.row();
+        if (seenIn[i] != j) {
+          seenIn[i] = j;
+          sum[i] = 0;
+          rows.push_back(static_cast<int>(i));
+        }
+        sum[i] += b.value() * wkj;
+      }
+    }
+    std::sort(rows.begin(), rows.end());
+    for (int i : rows) {
+      inner.push_back(i);
+      values.push_back(sum[i]);
+    }
+    outer[j + 1] = static_cast<int>(inner.size());
+  }
+  return Sparse(Eigen::Map<const Sparse>(n, n, static_cast<Eigen::Index>(inner.size()),
+                                         outer.data(), inner.data(), values.data()));
+}
+
 }  // namespace s2p

@@ -2,7 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
+#include "core/coarse_mesh.h"
 #include "core/error.h"
 #include "core/mesh_query.h"
 #include "core/stage_error.h"
@@ -79,11 +81,18 @@ std::vector<std::pair<int, Eigen::Vector3d>> surfaceLandmarks(const BodyModel& m
   return out;
 }
 
-ScanFit fitScan(const TriMesh& scanIn, const BodyModel& model, const ScanFitOptions& options,
+ScanFit fitScan(const TriMesh& scanFull, const BodyModel& model, const ScanFitOptions& options,
                 Progress* progress) {
   const auto t0 = Clock::now();
   ScanFit out;
   Steps steps(out, progress);
+  std::optional<CoarseMesh> copy;
+  if (options.coarseVertices > 0 && scanFull.numVertices() > 1.5 * options.coarseVertices)
+    steps.run("decimated copy", [&] {
+      copy = decimatedCopy(scanFull, options.coarseVertices);
+      return 0;
+    });
+  const TriMesh& scanIn = copy ? copy->mesh : scanFull;
 
   out.orientation = steps.run("orientation", [&] {
     if (!options.yaw) return estimateOrientation(scanIn);

@@ -31,6 +31,11 @@ struct ScanFitOptions {
   PoseInitOptions poseInit;
   BodyFitOptions fit;
   NonrigidIcpOptions icp;
+  // Issue 17: a scan of more than 1.5 × this many vertices is fitted on a decimated copy of
+  // about this many (core/coarse_mesh.h; its surface within a fraction of a millimetre of the
+  // scan's): the body has ~20k vertices, and the scan's BVH, winding-number tree and
+  // extremity search grow with the scan. 0: the scan itself.
+  int coarseVertices = 100000;
 };
 
 struct ScanFit {
@@ -42,7 +47,8 @@ struct ScanFit {
   TriMesh full;                // the non-rigid fit (faces of the model), fitting frame
   double fullMeanDistance = 0;  // metres, full-fit vertices to the scan
   int fullIterations = 0;
-  // Seconds per step: "orientation", "pose initialisation", "shape and pose", "non-rigid".
+  // Seconds per step: "decimated copy" (a large scan only), "orientation", "pose
+  // initialisation", "shape and pose", "non-rigid".
   std::vector<std::pair<std::string, double>> timings;
   std::vector<std::string> warnings;
   double seconds = 0;

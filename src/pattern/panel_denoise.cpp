@@ -139,7 +139,7 @@ TriMesh denoisePanel(const TriMesh& panel, const std::vector<int>& loop,
   for (int v = 0; v < nv; ++v) diagonal.emplace_back(v, v, mass(v));
   Eigen::SparseMatrix<double> M(nv, nv);
   M.setFromTriplets(diagonal.begin(), diagonal.end());
-  const Eigen::SparseMatrix<double> A = h4 * (L * interiorInv.asDiagonal() * L) + M;
+  const Eigen::SparseMatrix<double> A = h4 * laplacianSquared(L, interiorInv) + M;
   const ReducedSystem system(A, onBoundary);
   SpdSolver solver;
   solver.compute(system.freeBlock());

@@ -11,6 +11,7 @@
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 #include "segment/biharmonic.h"
+#include "core/coarse_mesh.h"
 #include "segment/surface_spline.h"
 
 namespace s2p {
@@ -132,11 +133,13 @@ std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology
   return out;
 }
 
-std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
-                                    const FeatureSet& features,
-                                    const std::vector<Opening>& openings,
-                                    const SeamOptions& options) {
-  validateMesh(garment, "garment");
+namespace {
+
+// The seams of estimateSeams on `garment` itself.
+std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
+                                  const FeatureSet& features,
+                                  const std::vector<Opening>& openings,
+                                  const SeamOptions& options) {
   ProjectionOptions popt = options.projection;
   const BoundingBox bb = boundingBox(body.V);
   popt.bodyLength = std::max(bb.extent().maxCoeff(), 1e-3);
@@ -298,6 +301,49 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
     out.push_back(std::move(seam));
   }
   return out;
+}
+
+// The openings of a garment on its decimated copy: the loops' vertices the copy kept.
+std::vector<Opening> openingsOnCopy(const std::vector<Opening>& openings, const CoarseMesh& copy,
+                                    int fineVertices) {
+  std::vector<int> coarseOf(static_cast<size_t>(fineVertices), -1);
+  for (int v = 0; v < copy.fineVertex.size(); ++v) coarseOf[copy.fineVertex[v]] = v;
+  std::vector<Opening> out = openings;
+  for (Opening& o : out) {
+    std::vector<int> kept;
+    for (int v : o.vertices)
+      if (coarseOf[v] >= 0) kept.push_back(coarseOf[v]);
+    o.vertices = std::move(kept);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
+                                    const FeatureSet& features,
+                                    const std::vector<Opening>& openings,
+                                    const SeamOptions& options) {
+  validateMesh(garment, "garment");
+  const std::optional<CoarseMesh> copy =
+      options.coarseVertices > 0 ? decimatedCopy(garment, options.coarseVertices) : std::nullopt;
+  if (!copy) return seamsOnMesh(garment, kind, body, features, openings, options);
+  std::vector<SeamLine> seams =
+      seamsOnMesh(copy->mesh, kind, body, features,
+                  openingsOnCopy(openings, *copy, garment.numVertices()), options);
+  const CoarseToFine map(copy->mesh, garment);
+  const MeshTopology topo(garment.F, garment.numVertices());
+  for (SeamLine& seam : seams) {
+    if (!seam.kept) continue;
+    seam.phi = map.carry(seam.phi);
+    seam.line = extractIsoline(garment, topo, seam.phi);
+    seam.kept = !seam.line.curves.empty();
+    if (!seam.kept) {
+      seam.removedWhy = "its zero isoline vanished when carried from the decimated copy";
+      seam.phi.resize(0);
+    }
+  }
+  return seams;
 }
 
 }  // namespace s2p

@@ -55,6 +55,10 @@ struct SeamOptions {
   // the torso and every limb), and a region without one is the biharmonic's extrapolation (a
   // band below dropped ankle pairs turned a shin's front into 'back').
   double minIslandArea = std::numeric_limits<double>::infinity();
+  // Issue 17: a garment of more than 1.5 × this many vertices has its seams found on a
+  // decimated copy of about this many (core/coarse_mesh.h) and carried back (the signed
+  // distance interpolated at each vertex's closest point on the copy); 0: at full resolution.
+  int coarseVertices = 100000;
 };
 
 // A garment opening: one boundary loop of the cut garment, named by where it lies on the body.

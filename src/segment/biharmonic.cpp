@@ -89,7 +89,7 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
       for (int b = 0; b < 3; ++b) pattern.emplace_back(mesh.F(f, a), mesh.F(f, b), 0.0);
   Sparse P(nV, nV);
   P.setFromTriplets(pattern.begin(), pattern.end());
-  const Sparse LML = L * (area.cwiseInverse().asDiagonal() * L);
+  const Sparse LML = laplacianSquared(L, area.cwiseInverse());
   // A tiny Tikhonov term, relative to the operator's own scale, keeps the system positive
   // definite on a connected piece that holds no constraint (an island a previous cut left):
   // u = 0 there instead of a failed factorisation. It changes constrained solutions by ~1e-12.

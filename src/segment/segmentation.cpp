@@ -9,7 +9,9 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <type_traits>
 
+#include "core/coarse_mesh.h"
 #include "core/colour.h"
 #include "core/error.h"
 #include "core/laplacian.h"
@@ -402,7 +404,7 @@ class Segmenter {
       progress_.begin("offset from the body under the clothes");
       const MeshQuery under(*underBody);
       root_.offset = bodyOffset(scan, under, *underBody);
-      root_.step = stepField(scan, root_.offset, options.geometry);
+      root_.step = coarseStepField(scan, root_.offset);
       progress_.end();
     }
     height_ = bodyHeight(body);
@@ -544,6 +546,19 @@ class Segmenter {
   }
 
   bool hasGeometry() const { return root_.step.size() > 0; }
+
+  // The step field of the offset (body_offset.h). On a large scan it is smoothed on the
+  // decimated copy the boundaries are optimised on and carried back: its two surface smoothings
+  // (3 mm and 3 cm) each factor M + l²L, 10 s a factorisation at 1M vertices.
+  Eigen::VectorXd coarseStepField(const TriMesh& scan, const Eigen::VectorXd& offset) const {
+    const std::optional<CoarseMesh> copy =
+        options_.coarseVertices > 0 ? decimatedCopy(scan, options_.coarseVertices) : std::nullopt;
+    if (!copy) return stepField(scan, offset, options_.geometry);
+    Eigen::VectorXd coarseOffset(copy->mesh.numVertices());
+    for (int v = 0; v < coarseOffset.size(); ++v) coarseOffset[v] = offset[copy->fineVertex[v]];
+    return CoarseToFine(copy->mesh, scan)
+        .carry(stepField(copy->mesh, coarseOffset, options_.geometry));
+  }
 
   static double median(std::vector<double> v) {
     if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
@@ -716,19 +731,33 @@ class Segmenter {
     std::vector<ValueConstraint> signs;
   };
 
-  Located locateFeatures(const Stage& stage, const ProjectedCurve& curve) const {
+  // The curve's anchors and sign points that lie on `present` (the part of the scan left: those
+  // an earlier cut took away lie off it), located on `stage` (that part, or its decimated copy,
+  // whose surface strays from it by a fraction of a millimetre).
+  Located locateFeatures(const Stage& stage, const ProjectedCurve& curve,
+                         const TriMesh& present) const {
     const MeshQuery query(stage.mesh);
+    const std::optional<MeshQuery> presentQuery =
+        &present == &stage.mesh ? std::nullopt : std::make_optional<MeshQuery>(present);
+    const MeshQuery& onPresent = presentQuery ? *presentQuery : query;
+    const auto kept = [&](const std::vector<Vec3>& positions) {
+      std::vector<int> k;
+      locate(onPresent, positions, tolerance_, &k);
+      std::vector<Vec3> p;
+      for (int i : k) p.push_back(positions[i]);
+      return std::pair{k, p};
+    };
+    constexpr double kAnywhere = std::numeric_limits<double>::infinity();
     Located out;
     for (size_t s = 0; s < curve.splines.size(); ++s) {
       // Anchors cut away by an earlier boundary drop out; the spline goes through the rest.
       std::vector<Vec3> anchors;
       for (int i = 0; i < curve.splines[s].rows(); ++i)
         anchors.push_back(curve.splines[s].row(i).transpose());
-      std::vector<int> kept;
-      locate(query, anchors, tolerance_, &kept);
-      if (kept.size() < (curve.closed[s] ? 3u : 2u)) continue;
-      Eigen::MatrixX3d A(static_cast<int>(kept.size()), 3);
-      for (size_t i = 0; i < kept.size(); ++i) A.row(static_cast<int>(i)) = anchors[kept[i]];
+      const auto [index, left] = kept(anchors);
+      if (left.size() < (curve.closed[s] ? 3u : 2u)) continue;
+      Eigen::MatrixX3d A(static_cast<int>(left.size()), 3);
+      for (size_t i = 0; i < left.size(); ++i) A.row(static_cast<int>(i)) = left[i];
       // At most about one zero constraint per face: denser constraints make the biharmonic's
       // zero set wiggle between them at the scale of the mesh.
       const double spacing = std::max(options_.splineSpacing, meanEdgeLength(stage.mesh));
@@ -736,10 +765,10 @@ class Segmenter {
     }
     std::vector<Vec3> positions;
     for (const Anchor& a : curve.signs) positions.push_back(a.position);
-    std::vector<int> kept;
-    const std::vector<SurfacePoint> pts = locate(query, positions, tolerance_, &kept);
+    const auto [index, left] = kept(positions);
+    const std::vector<SurfacePoint> pts = locate(query, left, kAnywhere);
     for (size_t i = 0; i < pts.size(); ++i)
-      out.signs.push_back({pts[i], curve.signs[kept[i]].value});
+      out.signs.push_back({pts[i], curve.signs[index[i]].value});
     return out;
   }
 
@@ -758,10 +787,76 @@ class Segmenter {
     }
   }
 
+  // The boundary optimised on `stage`, or on a decimated copy of it when it is large (the
+  // curves carried back), and the stage cut exactly along it.
   std::pair<BoundaryRun, CutResult> optimiseAndCutOnce(const Stage& stage, const BoundaryJob& job) {
     const auto t0 = Clock::now();
+    progress_.begin(fmt::format("boundary {}", job.curve->name));
+    const std::optional<CoarseMesh> coarse =
+        options_.coarseVertices > 0 ? decimatedCopy(stage.mesh, options_.coarseVertices)
+                                    : std::nullopt;
+    double coarseSeconds = secondsSince(t0);
+    BoundaryRun run;
+    if (coarse) {
+      const Stage copy = coarseStage(stage, *coarse);
+      run = optimise(copy, job, stage.mesh);
+      const auto t1 = Clock::now();
+      carryToFine(run, copy.mesh, stage.mesh);
+      coarseSeconds += secondsSince(t1);
+    } else {
+      run = optimise(stage, job, stage.mesh);
+    }
+    run.report.coarseSeconds = coarseSeconds;
+    run.report.optimisedVertices = coarse ? coarse->mesh.numVertices() : stage.mesh.numVertices();
+    CutResult cut = cutAlongIsoline(stage.mesh, awayFromZero(run.result.phi, stage.mesh));
+    run.report.seconds = secondsSince(t0);
+    progress_.end();
+    return {std::move(run), std::move(cut)};
+  }
+
+  // The part of the scan `stage` restricted to the vertices of its decimated copy.
+  static Stage coarseStage(const Stage& stage, const CoarseMesh& coarse) {
+    const auto rows = [&](const auto& m) {
+      using M = std::decay_t<decltype(m)>;
+      M out(coarse.fineVertex.size(), m.cols());
+      for (int v = 0; v < coarse.fineVertex.size(); ++v) out.row(v) = m.row(coarse.fineVertex[v]);
+      return out;
+    };
+    Stage s;
+    s.mesh = coarse.mesh;
+    s.lab = rows(stage.lab);
+    s.srgb = rows(stage.srgb);
+    if (stage.step.size() > 0) {
+      s.offset = rows(stage.offset);
+      s.step = rows(stage.step);
+    }
+    s.scanVertex = rows(stage.scanVertex);
+    return s;  // faceOrigin stays empty: a copy's faces lie in no one scan face
+  }
+
+  // φ₀ and φ of a boundary optimised on a decimated copy carried to the full mesh `fine` (each
+  // vertex takes the value at its closest point on the copy), and the curves re-extracted there:
+  // what is cut and reported is the full mesh's zero isoline.
+  static void carryToFine(BoundaryRun& run, const TriMesh& coarse, const TriMesh& fine) {
+    const CoarseToFine map(coarse, fine);
+    const MeshTopology topology(fine.F, fine.numVertices());
+    BoundaryResult& r = run.result;
+    r.phi = map.carry(r.phi);
+    r.boundary = extractIsoline(fine, topology, r.phi);
+    if (r.phi0.size() > 0) {
+      r.phi0 = map.carry(r.phi0);
+      r.initial = extractIsoline(fine, topology, r.phi0);
+    }
+    BoundaryReport& rep = run.report;
+    rep.initialCurves = curvePolylines(r.initial, rep.initialClosed);
+    rep.finalCurves = curvePolylines(r.boundary, rep.finalClosed);
+    rep.otherLabels.assign(rep.finalCurves.size(), rep.other);
+  }
+
+  // Algorithm 1 for one boundary on `stage` (the part of the scan left, or its decimated copy),
+  // with the second pass of §5.2 and the islands merged; not cut.
+  BoundaryRun optimise(const Stage& stage, const BoundaryJob& job, const TriMesh& present) {
     const ProjectedCurve& curve = *job.curve;
-    progress_.begin(fmt::format("boundary {}", curve.name));
     BoundaryRun run;
     BoundaryReport& rep = run.report;
     rep.name = curve.name;
@@ -771,7 +866,7 @@ class Segmenter {
     rep.droppedAnchors = curve.droppedAnchors;
     rep.signs = curve.numSigns;
     rep.droppedSigns = curve.droppedSigns;
-    const Located f = locateFeatures(stage, curve);
+    const Located f = locateFeatures(stage, curve, present);
     int pos = 0, neg = 0;
     for (const ValueConstraint& c : f.signs) (c.value > 0 ? pos : neg)++;
     if (f.splines.empty() || pos + neg == 0) {
@@ -786,11 +881,8 @@ class Segmenter {
           curve.numSigns));
       run.result.phi0 = run.result.phi = Eigen::VectorXd::Constant(stage.mesh.numVertices(), -1.0);
       run.result.converged = true;
-      CutResult cut = cutAlongIsoline(stage.mesh, run.result.phi);
       rep.converged = true;
-      rep.seconds = secondsSince(t0);
-      progress_.end();
-      return {std::move(run), std::move(cut)};
+      return run;
     }
     std::vector<GaussianMixture> models;
     for (int r : job.regions) models.push_back(colours_.models[r]);
@@ -864,10 +956,7 @@ class Segmenter {
     rep.initialCurves = curvePolylines(run.result.initial, rep.initialClosed);
     rep.finalCurves = curvePolylines(run.result.boundary, rep.finalClosed);
     rep.otherLabels.assign(rep.finalCurves.size(), job.other);
-    CutResult cut = cutAlongIsoline(stage.mesh, awayFromZero(run.result.phi, stage.mesh));
-    rep.seconds = secondsSince(t0);
-    progress_.end();
-    return {std::move(run), std::move(cut)};
+    return run;
   }
 
   // B(L|S) borders skin or shoes: the reported curves are split where the label of the

@@ -83,6 +83,10 @@ struct SegmentationOptions {
   // point are merged into their surroundings: specks of a print, not garments (a hand is
   // ~0.03 m², a shoe ~0.05 m²).
   double minRegionArea = 0.01;
+  // Issue 17: a part of the scan with more than 1.5 × this many vertices has its boundary
+  // optimised on a decimated copy of about this many (core/coarse_mesh.h), and is cut
+  // exactly along it on the full mesh; 0 optimises every boundary at full resolution.
+  int coarseVertices = 100000;
 };
 
 // One optimised boundary.
@@ -108,6 +112,9 @@ struct BoundaryReport {
   double hemContrast = -1;    // B(U|L) of one colour: median step vote (m) at it (−1: not asked)
   double seconds = 0;
   BoundaryTimings timings;
+  // Vertices of the mesh Algorithm 1 ran on: the part of the scan left, or its decimated copy.
+  int optimisedVertices = 0;
+  double coarseSeconds = 0;  // making the copy and carrying φ back to the full mesh
 };
 
 // A cut garment: part of the scan, each face inside one scan face.

@@ -208,5 +208,16 @@ TEST(Laplacian, BadIndicesThrow) {
   EXPECT_THROW(gradientOperator(t), InputError);
 }
 
+TEST(Laplacian, LaplacianSquaredIsTheProductLWL) {
+  const TriMesh m = makeIcosphere(3);
+  const Eigen::SparseMatrix<double> L = cotanLaplacian(m);
+  const Eigen::VectorXd w = vertexAreas(m).cwiseInverse();
+  const Eigen::SparseMatrix<double> expected = L * w.asDiagonal() * L;
+  const Eigen::SparseMatrix<double> got = laplacianSquared(L, w);
+  EXPECT_LT((got - expected).norm(), 1e-12 * expected.norm());
+  EXPECT_EQ(got.nonZeros(), expected.nonZeros());
+  EXPECT_THROW(laplacianSquared(L, Eigen::VectorXd::Ones(3)), InputError);
+}
+
 }  // namespace
 }  // namespace s2p
