@@ -37,7 +37,8 @@ DrapeInput drapeInput(const PatternResult& pattern, std::vector<int>* panelOf) {
     if (a < 0 || b < 0) continue;
     for (const auto& [va, vb] : s.vertices) in.stitches.push_back({a, va, b, vb});
   }
-  in.body = pl.restBody;
+  // On the body under the clothes: the rest body follows the scanned clothes (see Placement).
+  in.body = pl.underBody.numFaces() > 0 ? pl.underBody : pl.restBody;
   if (panelOf) *panelOf = std::move(of);
   return in;
 }
