@@ -62,6 +62,11 @@ struct DrapeOptions {
   double sewSpeed = 0.5;  // m/s: seams close at most this fast (from their start gap)
   double sewPull = 0.25;  // an open stitch pulls at most this fraction of its edge per substep
   double sewTolerance = 0.001;  // metres: the seams are closed when every gap is below it
+  // Cloth within this many edges of an open stitch passes through other cloth (0: never). Where
+  // three or four panels meet (a crotch, a waist under a shirt's hem) the flat panels start
+  // across one another, and contacts, which keep the side they were found on, hold the seam
+  // open for good; once a stitch is sewn its cloth collides again.
+  int sewContactRings = 2;
   int sewMaxSteps = 600;        // step budget of the sewing phase
   int sewSettleSteps = 10;      // steps sewing goes on once the seams are closed
   double restSpeed = 0.01;      // m/s: at rest when no vertex's net motion is faster than this
@@ -108,6 +113,7 @@ struct DrapeResult {
   int bodyPenetrations = 0;        // vertices inside the body (exact distance < 0)
   double maxPenetration = 0;       // metres, deepest
   int startInsideBody = 0;         // vertices that started inside the body
+  std::vector<std::string> wrappedPanels;  // sewn to themselves: wrapped round their limb
   int selfIntersections = 0;       // intersecting triangle pairs not sharing a (sewn) vertex
   double seconds = 0;              // wall time of the whole run
   long long constraintSolves = 0;  // projections performed (all kinds)
