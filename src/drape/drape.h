@@ -68,6 +68,7 @@ struct DrapeOptions {
   // open for good; once a stitch is sewn its cloth collides again.
   int sewContactRings = 2;
   int sewMaxSteps = 600;        // step budget of the sewing phase
+  int sewStallSteps = 60;       // ... which ends early when no stitch was sewn in this many steps
   int sewSettleSteps = 10;      // steps sewing goes on once the seams are closed
   double restSpeed = 0.01;      // m/s: at rest when no vertex's net motion is faster than this
   int restSteps = 10;           // ... over a window of this many steps, two windows running
@@ -103,7 +104,7 @@ struct DrapeResult {
   // === Figures
   int sewSteps = 0;
   int drapeSteps = 0;
-  bool seamsClosed = false;        // every stitch gap below sewTolerance at the end of sewing
+  bool seamsClosed = false;        // every stitch sewn (its gap fell below sewTolerance) by the end
   bool settled = false;            // at rest before the drape budget ran out
   double maxStitchGap = 0;         // metres, at the end
   double meanStitchGap = 0;        // metres

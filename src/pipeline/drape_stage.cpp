@@ -118,7 +118,7 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
         "drape: {}: no draped garment written or measured (the pattern files are unaffected)",
         out.drape.status == DrapeStatus::Failed ? "the simulation failed"
         : out.drape.seamsClosed                 ? "the cloth did not settle in its step budget"
-                                                : "the seams did not close in the sewing budget"));
+                                                : "the seams did not close in the step budgets"));
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
