@@ -195,6 +195,8 @@ void writePatternFiles(const fs::path& dir, const Scan& scan, const PatternResul
     writeJson(dir / "pattern.json",
               garmentCodeSpecification(panels, flat, pattern.placement, pattern.stitches));
     writeObj(dir / "body_rest.obj", pattern.placement.restBody);
+    if (pattern.placement.underBody.numFaces() > 0)
+      writeObj(dir / "body_under.obj", pattern.placement.underBody);
   }
   writeJson(dir / "stitches.json", stitchesToJson(pattern));
   // panels.obj: the placed panels (the flat layout if there is no placement), one group each.

@@ -1,8 +1,9 @@
 // The pattern files of Patterns III that `run` and `panels` write into OUT/pattern/:
 // pattern.json (GarmentCode), pattern.svg / pattern.pdf (1:1 print), pattern.dxf (DXF-AAMA),
 // panels.obj (the remeshed panels placed around the rest body, one group each; same vertex
-// order as panels_flat.obj), stitches.json (vertex pairs into panels.obj), body_rest.obj and
-// pattern.png.
+// order as panels_flat.obj), stitches.json (vertex pairs into panels.obj), body_rest.obj (the
+// full fit: it follows the scanned clothes), body_under.obj (the body fitted under the clothes,
+// in the same frame: what to sew and drape the panels on) and pattern.png.
 #pragma once
 
 #include <filesystem>

@@ -8,7 +8,7 @@
 // intersections, body penetrations, settled (1/0).
 // BM_PatternFiles drapes a pattern written by `scan2pattern run`/`demo` (OUT/pattern/: panels.obj
 // with one group per panel, panels_flat.obj with the same vertices flat, stitches.json,
-// body_rest.obj) when S2P_DRAPE_PATTERN names that folder (skipped otherwise).
+// body_under.obj or else body_rest.obj) when S2P_DRAPE_PATTERN names that folder (skipped otherwise).
 //   build/release/bench/drape_bench --benchmark_counters_tabular=true
 //   S2P_DRAPE_PATTERN=/tmp/demo/pattern build/release/bench/drape_bench --benchmark_filter=Files
 #include <benchmark/benchmark.h>
@@ -27,8 +27,8 @@ namespace s2p {
 namespace {
 
 // Budgets from the environment (S2P_DRAPE_SEW_STEPS, S2P_DRAPE_STEPS, S2P_DRAPE_SUBSTEPS), to
-// bound a bench run on a large pattern; S2P_DRAPE_SELF=0 and S2P_DRAPE_STRAIN_LIMIT=x for
-// diagnosis.
+// bound a bench run on a large pattern; S2P_DRAPE_SELF=0, S2P_DRAPE_STRAIN_LIMIT=x and
+// S2P_DRAPE_SEW_RINGS=n for diagnosis.
 DrapeOptions envOptions() {
   DrapeOptions o;
   if (const char* v = std::getenv("S2P_DRAPE_SEW_STEPS")) o.sewMaxSteps = std::atoi(v);
@@ -36,6 +36,7 @@ DrapeOptions envOptions() {
   if (const char* v = std::getenv("S2P_DRAPE_SUBSTEPS")) o.substeps = std::atoi(v);
   if (const char* v = std::getenv("S2P_DRAPE_SELF")) o.selfCollision = std::atoi(v) != 0;
   if (const char* v = std::getenv("S2P_DRAPE_STRAIN_LIMIT")) o.strainLimit = std::atof(v);
+  if (const char* v = std::getenv("S2P_DRAPE_SEW_RINGS")) o.sewContactRings = std::atoi(v);
   return o;
 }
 
@@ -59,6 +60,7 @@ void report(benchmark::State& state, const DrapeInput& in, const DrapeResult& r)
   state.counters["searches"] = static_cast<double>(r.contactSearches);
   state.counters["constraints"] = r.numConstraints;
   state.counters["sim_s"] = r.seconds;
+  state.counters["wrapped"] = static_cast<double>(r.wrappedPanels.size());
 }
 
 void BM_Tube(benchmark::State& state) {
@@ -90,7 +92,9 @@ BENCHMARK(BM_Shirt)
 DrapeInput readPatternFiles(const std::string& dir) {
   const ObjFile placed = readObjFile(dir + "/panels.obj");
   const ObjFile flat = readObjFile(dir + "/panels_flat.obj");
-  const ObjFile body = readObjFile(dir + "/body_rest.obj");
+  // The body under the clothes when the pattern has it (what `run` drapes on).
+  const bool under = std::ifstream(dir + "/body_under.obj").good();
+  const ObjFile body = readObjFile(dir + (under ? "/body_under.obj" : "/body_rest.obj"));
   const int np = static_cast<int>(placed.names.size());
   std::vector<int> lo(np, static_cast<int>(placed.V.size())), hi(np, -1);
   for (size_t f = 0; f < placed.F.size(); ++f)

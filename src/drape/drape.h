@@ -62,7 +62,13 @@ struct DrapeOptions {
   double sewSpeed = 0.5;  // m/s: seams close at most this fast (from their start gap)
   double sewPull = 0.25;  // an open stitch pulls at most this fraction of its edge per substep
   double sewTolerance = 0.001;  // metres: the seams are closed when every gap is below it
+  // Cloth within this many edges of an open stitch passes through other cloth (0: never). Where
+  // three or four panels meet (a crotch, a waist under a shirt's hem) the flat panels start
+  // across one another, and contacts, which keep the side they were found on, hold the seam
+  // open for good; once a stitch is sewn its cloth collides again.
+  int sewContactRings = 2;
   int sewMaxSteps = 600;        // step budget of the sewing phase
+  int sewStallSteps = 60;       // ... which ends early when no stitch was sewn in this many steps
   int sewSettleSteps = 10;      // steps sewing goes on once the seams are closed
   double restSpeed = 0.01;      // m/s: at rest when no vertex's net motion is faster than this
   int restSteps = 10;           // ... over a window of this many steps, two windows running
@@ -98,7 +104,7 @@ struct DrapeResult {
   // === Figures
   int sewSteps = 0;
   int drapeSteps = 0;
-  bool seamsClosed = false;        // every stitch gap below sewTolerance at the end of sewing
+  bool seamsClosed = false;        // every stitch sewn (its gap fell below sewTolerance) by the end
   bool settled = false;            // at rest before the drape budget ran out
   double maxStitchGap = 0;         // metres, at the end
   double meanStitchGap = 0;        // metres
@@ -108,6 +114,7 @@ struct DrapeResult {
   int bodyPenetrations = 0;        // vertices inside the body (exact distance < 0)
   double maxPenetration = 0;       // metres, deepest
   int startInsideBody = 0;         // vertices that started inside the body
+  std::vector<std::string> wrappedPanels;  // sewn to themselves: wrapped round their limb
   int selfIntersections = 0;       // intersecting triangle pairs not sharing a (sewn) vertex
   double seconds = 0;              // wall time of the whole run
   long long constraintSolves = 0;  // projections performed (all kinds)

@@ -112,6 +112,9 @@ Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
   const Eigen::Vector3d shift(-pelvis.x(), -bodyV.col(1).minCoeff(), -pelvis.z());
   bodyV.rowwise() += shift.transpose();
   out.restBody = TriMesh(bodyV, model.rest.F);
+  Eigen::MatrixX3d underV = drape.mesh.V;
+  underV.rowwise() += shift.transpose();
+  out.underBody = TriMesh(underV, drape.mesh.F);
   out.canonical = drape.canonical.rowwise() + shift.transpose();
   const MeshQuery bodyQuery(out.restBody);
 

@@ -60,6 +60,11 @@ struct PlacedPanel {
 struct Placement {
   std::string pose = "drape pose: A-pose arms 45° down, legs 8° apart, knees and elbows straight";
   TriMesh restBody;      // the body in the drape pose, rest frame
+  // The body fitted under the clothes (fitted shape, drape pose, none of the full fit's detail)
+  // in the same frame: what the pattern is sewn and draped on. restBody follows the scanned
+  // clothes (the full fit is fitted onto the scan surface), so a pattern as large as the scanned
+  // garment has no room on it: sewn there, a t-shirt's armpit junction stays open.
+  TriMesh underBody;
   Eigen::MatrixX3d canonical;  // kNumCanonical×3, the rest body's canonical points
   std::vector<PlacedPanel> panels;  // one per FlatPatternResult panel, same order
   std::vector<std::string> warnings;

@@ -37,7 +37,8 @@ DrapeInput drapeInput(const PatternResult& pattern, std::vector<int>* panelOf) {
     if (a < 0 || b < 0) continue;
     for (const auto& [va, vb] : s.vertices) in.stitches.push_back({a, va, b, vb});
   }
-  in.body = pl.restBody;
+  // On the body under the clothes: the rest body follows the scanned clothes (see Placement).
+  in.body = pl.underBody.numFaces() > 0 ? pl.underBody : pl.restBody;
   if (panelOf) *panelOf = std::move(of);
   return in;
 }
@@ -117,7 +118,7 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
         "drape: {}: no draped garment written or measured (the pattern files are unaffected)",
         out.drape.status == DrapeStatus::Failed ? "the simulation failed"
         : out.drape.seamsClosed                 ? "the cloth did not settle in its step budget"
-                                                : "the seams did not close in the sewing budget"));
+                                                : "the seams did not close in the step budgets"));
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }

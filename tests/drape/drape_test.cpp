@@ -99,6 +99,48 @@ TEST(Drape, TwoRectanglesSewnAroundACylinderCloseIntoATubeOfTheirWidth_Slow) {
             << r.seconds << " s\n";
 }
 
+// A one-piece sleeve (a rectangle sewn to itself, its two long sides the underarm seam) laid
+// flat over its arm, as the placement lays it: without the wrap the stitches pulled the two
+// halves together above the arm, a closed tube with no arm in it. Wrapped round the arm before
+// sewing, it closes under it into a tube around the arm.
+TEST(Drape, ASleeveLaidFlatOverItsArmSewsClosedAroundTheArm_Slow) {
+  const double armRadius = 0.045, width = 0.38, length = 0.3, edge = 0.015;
+  const int nx = static_cast<int>(std::lround(width / edge));
+  const int ny = static_cast<int>(std::lround(length / edge));
+  // The arm along y; the sleeve in the plane x = armRadius + 2 cm, across z.
+  DrapeInput in;
+  in.body = makeClosedCylinder(armRadius, -0.05, length + 0.05, 20, 32);
+  const GridPanel sleeve =
+      makeGridPanel("sleeve", nx, ny, width, length, Vector3d(armRadius + 0.02, 0, width / 2),
+                    -Vector3d::UnitZ(), Vector3d::UnitY(), false);
+  in.panels.push_back(sleeve.panel);
+  for (int j = 0; j <= ny; ++j) in.stitches.push_back({0, sleeve.index(0, j), 0, sleeve.index(nx, j)});
+  DrapeOptions o;
+  o.gravity.setZero();
+  o.drapeMaxSteps = 60;
+  const DrapeResult r = runDrape(in, o);
+  ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
+  ASSERT_EQ(r.wrappedPanels.size(), 1u);
+  EXPECT_TRUE(r.seamsClosed);
+  EXPECT_LT(r.maxStitchGap, 1e-3);
+  EXPECT_EQ(r.bodyPenetrations, 0);
+  // Around the arm: the seam under it (x < 0, the side away from where the sleeve lay) and the
+  // cloth on every side of the axis.
+  const Eigen::MatrixX3d& V = r.panels[0];
+  for (int j = 2; j <= ny - 2; ++j) {
+    EXPECT_LT(V(sleeve.index(0, j), 0), 0.0) << "row " << j;
+    const double loop = 2 * std::numbers::pi * std::hypot(V(sleeve.index(nx / 2, j), 0),
+                                                          V(sleeve.index(nx / 2, j), 2));
+    EXPECT_GT(loop, 2 * std::numbers::pi * armRadius) << "row " << j;
+  }
+  EXPECT_GT(V.col(0).maxCoeff(), armRadius);
+  EXPECT_LT(V.col(0).minCoeff(), -armRadius);
+  EXPECT_GT(V.col(2).maxCoeff(), armRadius);
+  EXPECT_LT(V.col(2).minCoeff(), -armRadius);
+  std::cout << "sleeve: sew " << r.sewSteps << " steps, gap " << 1e3 * r.maxStitchGap << " mm, "
+            << r.selfIntersections << " self-intersections, " << r.seconds << " s\n";
+}
+
 TEST(Drape, ASheetDroppedOnASphereRestsOnItWithoutPenetration_Slow) {
   const double y = kSphereRadius + 0.03;
   const DrapeInput in = sheetOnSphere(y);
