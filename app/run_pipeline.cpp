@@ -4,6 +4,7 @@
 #include <tbb/task_group.h>
 
 #include <chrono>
+#include <functional>
 
 #include "app/drape_output.h"
 #include "app/fit_output.h"
@@ -116,13 +117,13 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
   // drawn on one thread each: they run side by side (on a 50k scan, 3.3 s one after another).
   // Each folder is made first, so that no two writers race to create it.
   for (const char* sub : {"fit", "segment", "pattern"}) fs::create_directories(dir / sub);
-  std::exception_ptr fitError, segmentError, patternError;
-  const auto guarded = [](std::exception_ptr& error, const auto& write) {
-    return [&error, &write] {
+  // Each writer runs as a task that keeps its own copy of what to call and where its error goes.
+  const auto guarded = [](std::exception_ptr* error, std::function<void()> write) {
+    return [error, write = std::move(write)] {
       try {
         write();
       } catch (const Error&) {
-        error = std::current_exception();
+        *error = std::current_exception();
       }
     };
   };
@@ -132,18 +133,18 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
   const auto flat = [&] {
     writeFlatPattern(dir / "pattern", scan.scan, run.pattern.panels, run.pattern.flat);
   };
-  std::exception_ptr panelsError, flatError, filesError;
   const auto files = [&] {
     writePatternFiles(dir / "pattern", scan.scan, run.pattern, print);
     writeDrape(dir / "drape", run);
   };
+  std::exception_ptr fitError, segmentError, panelsError, flatError, filesError;
   tbb::task_group writers;
-  writers.run(guarded(fitError, fit));
-  writers.run(guarded(segmentError, segment));
+  writers.run(guarded(&fitError, fit));
+  writers.run(guarded(&segmentError, segment));
   if (!run.patternError) {
-    writers.run(guarded(panelsError, panels));
-    writers.run(guarded(flatError, flat));
-    writers.run(guarded(filesError, files));
+    writers.run(guarded(&panelsError, panels));
+    writers.run(guarded(&flatError, flat));
+    writers.run(guarded(&filesError, files));
   }
   writers.wait();
   if (fitError) std::rethrow_exception(fitError);
