@@ -101,7 +101,8 @@ class FlipRepairer {
         F_(F),
         options_(options),
         adj_(adjacencyOf(F, static_cast<int>(uv.rows()))),
-        outlineNeighbours_(outlineNeighboursOf(F, static_cast<int>(uv.rows()))) {
+        outlineNeighbours_(outlineNeighboursOf(F, static_cast<int>(uv.rows()))),
+        moved_(uv.rows(), 0) {
     // Each face's margin: its 3D area (floored at 1 % of the mean face) at the panel's own
     // 2D/3D scale, times areaMargin.
     const int nF = static_cast<int>(F.rows());
@@ -190,10 +191,9 @@ class FlipRepairer {
   // flip-free patch (Tutte 1963); a result that does not lower the count of inverted faces is
   // undone.
   void smoothAround(int rings) {
-    for (const bool freeOutline : {false, true}) {
-      const std::vector<int> patch = patchAround(rings);
+    const std::vector<int> patch = patchAround(rings);
+    for (const bool freeOutline : {false, true})
       if (tutteOn(patch, freeOutline)) return;
-    }
   }
 
   std::vector<int> patchAround(int rings) const {
@@ -275,10 +275,7 @@ class FlipRepairer {
     return out;
   }
 
-  void mark(int v) {
-    if (moved_.empty()) moved_.assign(uv_.rows(), 0);
-    moved_[v] = 1;
-  }
+  void mark(int v) { moved_[v] = 1; }
 
   Eigen::MatrixX2d& uv_;
   const Eigen::MatrixX3i& F_;
