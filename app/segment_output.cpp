@@ -86,8 +86,10 @@ PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& 
                               const fs::path& jsonDir) {
   progress.begin("pose body");
   BodyFromJson b = bodyFromJson(bodyJson);
-  PosedFeatures out{std::move(b.posed.mesh), std::move(b.features),
-                    toFrame(toScanFile(bodyJson), b.posed.canonical)};
+  PosedFeatures out;
+  out.body = std::move(b.posed.mesh);
+  out.features = std::move(b.features);
+  out.canonical = toFrame(toScanFile(bodyJson), b.posed.canonical);
   out.params = b.params;
   out.toGarments = scan.toInputFrame.inverse() * toScanFile(bodyJson);
   out.model = std::make_shared<const BodyModel>(std::move(b.model));

@@ -22,6 +22,7 @@ void Progress::begin(const std::string& stage, long total) {
   done_ = 0;
   active_ = true;
   start_ = std::chrono::steady_clock::now();
+  cpuStart_ = std::clock();
   lastDraw_ = {};
   if (mode_ == Mode::Plain) fmt::print(stream_, "{} ...\n", stage_);
   draw(true);
@@ -36,13 +37,17 @@ double Progress::elapsed() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
+double Progress::cpuSeconds() const {
+  return static_cast<double>(std::clock() - cpuStart_) / CLOCKS_PER_SEC;
+}
+
 void Progress::end() {
   if (!active_) return;
   active_ = false;
   if (mode_ == Mode::Terminal) {
     fmt::print(stream_, "\r\033[K{} done in {:.2f} s\n", stage_, elapsed());
   } else if (mode_ == Mode::Plain) {
-    fmt::print(stream_, "{} done in {:.2f} s\n", stage_, elapsed());
+    fmt::print(stream_, "{} done in {:.2f} s ({:.2f} s CPU)\n", stage_, elapsed(), cpuSeconds());
   }
   std::fflush(stream_);
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <string>
 
@@ -28,6 +29,9 @@ class Progress {
   Mode mode() const { return mode_; }
   // Seconds since begin() of the current or last stage.
   double elapsed() const;
+  // Processor seconds of the whole process (every thread) since begin(): next to elapsed(), it
+  // shows how well a stage uses the cores, and it barely moves when other programs load them.
+  double cpuSeconds() const;
 
   // A progress object that prints nothing: the default for library calls.
   static Progress& silent();
@@ -42,6 +46,7 @@ class Progress {
   long done_ = 0;
   bool active_ = false;
   std::chrono::steady_clock::time_point start_;
+  std::clock_t cpuStart_ = 0;
   std::chrono::steady_clock::time_point lastDraw_;
 };
 

@@ -118,7 +118,7 @@ NonrigidIcpResult runNonrigidIcp(const TriMesh& templ, const TriMesh& target,
         if (solver.ready())
           solver.refactor(A);
         else
-          solver.compute(A);
+          solver.compute(A, 4);  // 4×4 blocks: one per vertex
         factoredAlpha = alpha;
         factoredBeta = beta;
         factoredWeights = std::move(weights);

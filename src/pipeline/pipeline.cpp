@@ -17,8 +17,10 @@ double secondsSince(Clock::time_point t) {
 }  // namespace
 
 PosedFeatures fittedFeatures(const BodyModel& model, const ScanFit& fit) {
-  PosedFeatures out{fit.fullInScanFrame(), computeFeatures(model, fit.fit.params.shape),
-                    fit.canonicalInScanFrame()};
+  PosedFeatures out;
+  out.body = fit.fullInScanFrame();
+  out.features = computeFeatures(model, fit.fit.params.shape);
+  out.canonical = fit.canonicalInScanFrame();
   out.model = std::shared_ptr<const BodyModel>(&model, [](const BodyModel*) {});
   out.params = fit.fit.params;
   out.toGarments = fit.toScan;
