@@ -584,21 +584,6 @@ class Segmenter {
     return v[v.size() / 2];
   }
 
-  // The person's own skin: skinSpreadFactor × the 90th percentile ΔE of the skin region's points
-  // from their mean, within [minSkinDeltaE, sameColourDeltaE].
-  double personSkinDeltaE() const {
-    const Eigen::MatrixXd& lab = colours_.colours[kSkin];
-    std::vector<double> d;
-    for (int i = 0; i < lab.rows(); ++i)
-      d.push_back(deltaE2000(lab.row(i).transpose(), colours_.means[kSkin]));
-    if (d.empty()) return options_.sameColourDeltaE;
-    const size_t k =
-        std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
-    std::nth_element(d.begin(), d.begin() + k, d.end());
-    return std::clamp(options_.skinSpreadFactor * d[k], options_.minSkinDeltaE,
-                      options_.sameColourDeltaE);
-  }
-
   double deltaE(int a, int b) const { return deltaE2000(colours_.means[a], colours_.means[b]); }
 
   // How far apart two regions' colours are for the geometric cues' weight: the median CIEDE2000
@@ -613,18 +598,6 @@ class Segmenter {
       return median(d);
     };
     return std::max(medianFrom(a, b), medianFrom(b, a));
-  }
-
-  // Fraction of region r's points within `threshold` of the skin's mean colour. A garment is
-  // missing when most of its region looks like skin: the region's mean colour alone would take
-  // a red-and-white striped dress (a pinkish mean) for bare skin.
-  double skinLikeFraction(int r, double threshold) const {
-    const Eigen::MatrixXd& lab = colours_.colours[r];
-    if (lab.rows() == 0) return 0;
-    int n = 0;
-    for (int i = 0; i < lab.rows(); ++i)
-      n += deltaE2000(lab.row(i).transpose(), colours_.means[kSkin]) < threshold;
-    return static_cast<double>(n) / static_cast<double>(lab.rows());
   }
 
   // The chest is covered by any top; the hips are not when the top is worn untucked, and their
@@ -685,10 +658,14 @@ class Segmenter {
     const double same = options_.sameColourDeltaE;
     out.shoes = hasFootRegion_ && out.footSkinDeltaE >= same;
     // Skin-like by this person's skin (its spread on the face and hands), not a fixed ΔE.
-    const double skin = personSkinDeltaE();
-    out.skinDeltaE = skin;
-    out.upperSkinLike = skinLikeFraction(kUpper, skin);
-    out.lowerSkinLike = skinLikeFraction(kLower, skin);
+    // A garment is missing when most of its region's points are this skin: the region's mean
+    // colour alone would take a red-and-white striped dress (a pinkish mean) for bare skin.
+    const SkinModel skin =
+        fitSkinModel(colours_.colours[kSkin], options_.skinSpreadFactor, options_.minSkinDeltaE,
+                     options_.sameColourDeltaE);
+    out.skinDeltaE = skin.threshold;
+    out.upperSkinLike = skin.skinLikeFraction(colours_.colours[kUpper]);
+    out.lowerSkinLike = skin.skinLikeFraction(colours_.colours[kLower]);
     // Most of the region's points must be this person's skin; its mean colour need only be
     // skin-like by the population bound (sameColourDeltaE): a bare leg's region also holds a
     // minority of sock, shoe or waistband points that pull the mean by more than the spread of
