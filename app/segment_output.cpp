@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <map>
 
 #include "app/commands.h"
@@ -110,6 +111,9 @@ PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& 
   return out;
 }
 
+// NaN (no body under the clothes) as null: JSON has no NaN.
+static json nullIfNan(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
 json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput) {
   const Segmentation& s = out.segmentation;
   // One entry per label pair (eval's format), holding the curves of every run with that pair.
@@ -144,6 +148,9 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                     {"gap_applied", b.gapApplied},
                     {"gap_shift_m", b.gapShift},
                     {"islands_removed", b.islandsRemoved},
+                    {"geometry_weight", b.geometryWeight},
+                    {"high_side", b.highSide},
+                    {"hem_contrast_m", b.hemContrast},
                     {"timings", {{"setup", b.timings.setup},
                                  {"regularisation", b.timings.regularisation},
                                  {"isoline", b.timings.isoline},
@@ -175,6 +182,11 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                        {"lower_skin", s.lowerSkinDeltaE},
                        {"foot_skin", s.footSkinDeltaE}}},
           {"skin_like_fraction", {{"upper", s.upperSkinLike}, {"lower", s.lowerSkinLike}}},
+          {"skin_delta_e", s.skinDeltaE},
+          {"geometric_cues", s.geometricCues},
+          {"region_offset_m", {{"skin", nullIfNan(s.skinOffset)},
+                               {"upper", nullIfNan(s.upperOffset)},
+                               {"lower", nullIfNan(s.lowerOffset)}}},
           {"region_points", s.regionPoints},
           {"dropped_region_points", s.droppedRegionPoints},
           {"seconds", s.seconds},

@@ -45,7 +45,7 @@ bool offsetSaysClothed(const std::vector<double>& offsets, const GeometricCueOpt
 }
 
 Eigen::VectorXd stepField(const TriMesh& scan, const Eigen::VectorXd& offset,
-                          const GeometricCueOptions& options) {
+                          const GeometricCueOptions& options, Eigen::VectorXd* smoothedOffset) {
   checkOptions(options);
   if (offset.size() != scan.numVertices() || !offset.allFinite())
     throw InputError("geometric cues: " + std::to_string(offset.size()) + " offsets for " +
@@ -53,6 +53,7 @@ Eigen::VectorXd stepField(const TriMesh& scan, const Eigen::VectorXd& offset,
   const Eigen::MatrixXd o = offset;
   const Eigen::MatrixXd fine = smoothOnSurface(scan, o, options.noiseLength);
   const Eigen::MatrixXd broad = smoothOnSurface(scan, o, options.stepReach);
+  if (smoothedOffset) *smoothedOffset = fine.col(0);
   return (fine - broad).col(0);
 }
 
@@ -67,6 +68,16 @@ Eigen::VectorXd stepDisplacement(const Eigen::VectorXd& step, double highSide,
     out[v] = step[v] < 0 ? -s * a : s * a;
   }
   return out;
+}
+
+Eigen::VectorXd offsetDisplacement(const Eigen::VectorXd& offset, double skinLevel,
+                                   double garmentLevel) {
+  if (!(garmentLevel > skinLevel))
+    throw InputError("geometric cues: the garment's offset level (" +
+                     std::to_string(garmentLevel) + " m) must lie above the skin's (" +
+                     std::to_string(skinLevel) + " m)");
+  const double mid = 0.5 * (skinLevel + garmentLevel), half = 0.5 * (garmentLevel - skinLevel);
+  return ((mid - offset.array()) / half).cwiseMax(-1.0).cwiseMin(1.0).matrix();
 }
 
 double geometryWeight(double deltaE, const GeometricCueOptions& options) {

@@ -248,6 +248,29 @@ RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb
   return out;
 }
 
+double SkinModel::skinLikeFraction(const Eigen::MatrixX3d& lab) const {
+  if (lab.rows() == 0) return 0;
+  int n = 0;
+  for (int i = 0; i < lab.rows(); ++i) n += deltaE2000(lab.row(i).transpose(), mean) < threshold;
+  return static_cast<double>(n) / static_cast<double>(lab.rows());
+}
+
+SkinModel fitSkinModel(const Eigen::MatrixX3d& lab, double spreadFactor, double minDeltaE,
+                       double maxDeltaE) {
+  if (lab.rows() == 0 || !lab.allFinite())
+    throw InputError("skin model: " + std::to_string(lab.rows()) +
+                     " skin colour samples, or not finite; it needs at least one");
+  SkinModel m;
+  m.mean = lab.colwise().mean().transpose();
+  std::vector<double> d;
+  for (int i = 0; i < lab.rows(); ++i) d.push_back(deltaE2000(lab.row(i).transpose(), m.mean));
+  const size_t k =
+      std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
+  std::nth_element(d.begin(), d.begin() + k, d.end());
+  m.threshold = std::clamp(spreadFactor * d[k], minDeltaE, maxDeltaE);
+  return m;
+}
+
 Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh, const std::vector<GaussianMixture>& models,
                                      const std::vector<bool>& positive, const Eigen::MatrixX3d& lab,
                                      const ColourModelOptions& options) {

@@ -76,6 +76,23 @@ Eigen::VectorXd posteriorDisplacement(const std::vector<GaussianMixture>& models
                                       const std::vector<bool>& positive,
                                       const Eigen::MatrixX3d& lab);
 
+// === The person's own skin (issue 18)
+
+// This person's skin under this scan's light, from colours where skin is certain (the face and
+// hands, by the fitted body): its mean, and how far from it (CIEDE2000) a colour is still this
+// skin: spreadFactor × the 90th percentile of the samples' own ΔE from the mean, within
+// [minDeltaE, maxDeltaE]. A bare torso is drawn from the same skin and spreads alike; a top of a
+// skin-like tone (beige, 8 ΔE off) lies outside this person's spread though inside a population's.
+struct SkinModel {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();  // CIELAB
+  double threshold = 0;                            // ΔE2000
+  // Fraction of the colours lab (#N×3, CIELAB) within `threshold` of the mean; 0 for none.
+  double skinLikeFraction(const Eigen::MatrixX3d& lab) const;
+};
+// lab: #N×3 CIELAB samples of skin. Throws InputError when there are none or they are not finite.
+SkinModel fitSkinModel(const Eigen::MatrixX3d& lab, double spreadFactor = 2.0,
+                       double minDeltaE = 3.0, double maxDeltaE = 10.0);
+
 // === The whole displacement (§5.1.4)
 
 struct ColourRegion {

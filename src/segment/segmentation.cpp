@@ -71,6 +71,7 @@ struct Stage {
   // (segment/body_offset.h), both computed once on the whole scan and carried through the cuts.
   Eigen::VectorXd offset;  // #V, m
   Eigen::VectorXd step;    // #V, m
+  Eigen::VectorXd smoothOffset;  // #V, m: the offset smoothed over the scanner's noise
 };
 
 Stage childStage(const Stage& parent, const CutPart& part) {
@@ -89,10 +90,12 @@ Stage childStage(const Stage& parent, const CutPart& part) {
   if (parent.step.size() > 0) {
     s.offset.resize(n);
     s.step.resize(n);
+    s.smoothOffset.resize(n);
     for (int v = 0; v < n; ++v) {
       const VertexOrigin& o = part.vertexOrigin[v];
       s.offset[v] = (1 - o.t) * parent.offset[o.a] + o.t * parent.offset[o.b];
       s.step[v] = (1 - o.t) * parent.step[o.a] + o.t * parent.step[o.b];
+      s.smoothOffset[v] = (1 - o.t) * parent.smoothOffset[o.a] + o.t * parent.smoothOffset[o.b];
     }
   }
   s.faceOrigin.resize(part.faceOrigin.size());
@@ -344,6 +347,11 @@ struct BoundaryJob {
   double deltaE = 100;
   double highSide = -1;
   bool geometry = true;  // false: colour alone whatever deltaE
+  // The offset itself beside the steps (offsetDisplacement): the garment's region, whose
+  // points' median offset is the garment's level (the skin's is the skin region's), and +1 when
+  // skin is on the positive side, −1 when the garment is; −1 for the region: no offset term.
+  int offsetRegion = -1;
+  double offsetSign = 1;
 };
 
 // The labelled region points projected to the scan, by RegionLabel (skin, upper, lower, foot);
@@ -404,7 +412,7 @@ class Segmenter {
       progress_.begin("offset from the body under the clothes");
       const MeshQuery under(*underBody);
       root_.offset = bodyOffset(scan, under, *underBody);
-      root_.step = coarseStepField(scan, root_.offset);
+      root_.step = coarseStepField(scan, root_.offset, root_.smoothOffset);
       progress_.end();
     }
     height_ = bodyHeight(body);
@@ -433,19 +441,9 @@ class Segmenter {
     Segmentation out;
     out.notes = projectionNotes_;
     decideLayout(out);
-    // The chest is covered by any top; the hips are not when the top is worn untucked, and their
-    // points then teach the lower model the top's colours.
-    double borrowed = 0;
-    if (out.layout == GarmentLayout::UpperLower && !tentativeOnePiece_)
-      colours_.models[kLower] = withoutBorrowedComponents(colours_.models[kLower],
-                                                          colours_.models[kUpper], 0.5, &borrowed);
-    if (borrowed > 0)
-      out.notes.push_back(fmt::format(
-          "{:.0f} % of the lower region's points have the upper garment's colours (a top worn "
-          "over the waistband): left out of the lower colour model",
-          100 * borrowed));
+    if (!tentativeNoUpper_) pruneLowerModel(out);
     LabelAreas labels(scan_.numVertices(), scan_.numFaces());
-    const bool hasUpper = out.layout != GarmentLayout::LowerOnly;
+    bool hasUpper = out.layout != GarmentLayout::LowerOnly;
     const bool hasLower = out.layout != GarmentLayout::UpperOnly;
     const Label upperLabel = Label::Upper;
     const Label lowerLabel = out.layout == GarmentLayout::OnePiece ? Label::Upper : Label::Lower;
@@ -456,11 +454,25 @@ class Segmenter {
       BoundaryJob job{&upperSkin_,         {kSkin, kUpper}, {true, false},
                       options_.gapFilling, upperLabel,      Label::Skin};
       job.deltaE = separation(kUpper, kSkin);
+      job.offsetRegion = kUpper;
+      // A torso of this person's skin colour lying near the body: the geometry alone finds the
+      // top's edges, and decides whether there is one (tentativeNoUpper_).
+      if (tentativeNoUpper_) job.deltaE = 0;
+      const size_t notesBefore = geometryNotes_.size();
       auto [run, cut] = optimiseAndCut(current, job);
-      out.boundaries.push_back(run.report);
-      labels.add(childStage(current, cut.positive), Label::Skin);
-      current = childStage(current, cut.negative);
-    } else {
+      if (tentativeNoUpper_ && !upperFoundByGeometry(run, current, out)) {
+        hasUpper = false;
+        geometryNotes_.resize(notesBefore);  // the run is dropped, and what it said with it
+      } else {
+        // A top found this way keeps the lower model whole: pruned against the top's model (this
+        // person's skin colour), B(L|S) came off the shoes' edge (skin_tone_top: lower|shoes
+        // 6.2 mm mean against 1.0 unpruned; upper|lower 0.7 against 2.7 mm).
+        out.boundaries.push_back(run.report);
+        labels.add(childStage(current, cut.positive), Label::Skin);
+        current = childStage(current, cut.negative);
+      }
+    }
+    if (!hasUpper) {
       out.notes.push_back("B(U|S) skipped: no upper garment");
     }
     // B(L|S): feet (shoes or skin) and bare legs are cut away.
@@ -468,6 +480,7 @@ class Segmenter {
       BoundaryJob job{&lowerSkin_,         {kSkin, kLower}, {true, false},
                       options_.gapFilling, lowerLabel,      Label::Skin};
       job.deltaE = separation(kLower, kSkin);
+      job.offsetRegion = kLower;
       if (out.shoes) {
         job.regions.push_back(kFoot);
         job.positive.push_back(true);
@@ -529,6 +542,7 @@ class Segmenter {
     std::vector<std::vector<SurfacePoint>> regions =
         projectRegionPoints(projector, features, regionPoints_, droppedRegionPoints_);
     hasFootRegion_ = regions[kFoot].size() >= 4;
+    upperPoints_ = regions[kUpper];
     for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
@@ -550,35 +564,26 @@ class Segmenter {
   // The step field of the offset (body_offset.h). On a large scan it is smoothed on the
   // decimated copy the boundaries are optimised on and carried back: its two surface smoothings
   // (3 mm and 3 cm) each factor M + l²L, 10 s a factorisation at 1M vertices.
-  Eigen::VectorXd coarseStepField(const TriMesh& scan, const Eigen::VectorXd& offset) const {
+  // `smoothOffset` receives the offset smoothed over the scanner's noise (#V).
+  Eigen::VectorXd coarseStepField(const TriMesh& scan, const Eigen::VectorXd& offset,
+                                  Eigen::VectorXd& smoothOffset) const {
     const std::optional<CoarseMesh> copy =
         options_.coarseVertices > 0 ? decimatedCopy(scan, options_.coarseVertices) : std::nullopt;
-    if (!copy) return stepField(scan, offset, options_.geometry);
+    if (!copy) return stepField(scan, offset, options_.geometry, &smoothOffset);
     Eigen::VectorXd coarseOffset(copy->mesh.numVertices());
     for (int v = 0; v < coarseOffset.size(); ++v) coarseOffset[v] = offset[copy->fineVertex[v]];
-    return CoarseToFine(copy->mesh, scan)
-        .carry(stepField(copy->mesh, coarseOffset, options_.geometry));
+    Eigen::VectorXd coarseSmooth;
+    const CoarseToFine map(copy->mesh, scan);
+    const Eigen::VectorXd step =
+        map.carry(stepField(copy->mesh, coarseOffset, options_.geometry, &coarseSmooth));
+    smoothOffset = map.carry(coarseSmooth);
+    return step;
   }
 
   static double median(std::vector<double> v) {
     if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
     return v[v.size() / 2];
-  }
-
-  // The person's own skin: skinSpreadFactor × the 90th percentile ΔE of the skin region's points
-  // from their mean, within [minSkinDeltaE, sameColourDeltaE].
-  double personSkinDeltaE() const {
-    const Eigen::MatrixXd& lab = colours_.colours[kSkin];
-    std::vector<double> d;
-    for (int i = 0; i < lab.rows(); ++i)
-      d.push_back(deltaE2000(lab.row(i).transpose(), colours_.means[kSkin]));
-    if (d.empty()) return options_.sameColourDeltaE;
-    const size_t k =
-        std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
-    std::nth_element(d.begin(), d.begin() + k, d.end());
-    return std::clamp(options_.skinSpreadFactor * d[k], options_.minSkinDeltaE,
-                      options_.sameColourDeltaE);
   }
 
   double deltaE(int a, int b) const { return deltaE2000(colours_.means[a], colours_.means[b]); }
@@ -597,16 +602,54 @@ class Segmenter {
     return std::max(medianFrom(a, b), medianFrom(b, a));
   }
 
-  // Fraction of region r's points within `threshold` of the skin's mean colour. A garment is
-  // missing when most of its region looks like skin: the region's mean colour alone would take
-  // a red-and-white striped dress (a pinkish mean) for bare skin.
-  double skinLikeFraction(int r, double threshold) const {
-    const Eigen::MatrixXd& lab = colours_.colours[r];
-    if (lab.rows() == 0) return 0;
-    int n = 0;
-    for (int i = 0; i < lab.rows(); ++i)
-      n += deltaE2000(lab.row(i).transpose(), colours_.means[kSkin]) < threshold;
-    return static_cast<double>(n) / static_cast<double>(lab.rows());
+  // The chest is covered by any top; the hips are not when the top is worn untucked, and their
+  // points then teach the lower model the top's colours.
+  void pruneLowerModel(Segmentation& out) {
+    if (out.layout != GarmentLayout::UpperLower || tentativeOnePiece_) return;
+    double borrowed = 0;
+    colours_.models[kLower] = withoutBorrowedComponents(colours_.models[kLower],
+                                                        colours_.models[kUpper], 0.5, &borrowed);
+    if (borrowed > 0)
+      out.notes.push_back(fmt::format(
+          "{:.0f} % of the lower region's points have the upper garment's colours (a top worn "
+          "over the waistband): left out of the lower colour model",
+          100 * borrowed));
+  }
+
+  // A torso of this person's skin colour near the body (tentativeNoUpper_): B(U|S) was run on
+  // the geometry alone; a top is there when the boundary found runs along steps of the offset
+  // (a neckline, sleeve hems: the same median step vote as a hem between upper and lower of one
+  // colour) and leaves most of the chest and back on the garment side. A bare torso fails one
+  // or the other: its boundary stays on the neck and wrist loops, where nothing steps, or runs
+  // down to the trousers' waistband, which steps but leaves the chest on the skin side.
+  // Otherwise the layout becomes LowerOnly and the run is dropped.
+  bool upperFoundByGeometry(BoundaryRun& run, const Stage& stage, Segmentation& out) {
+    const double support = run.result.vanished
+                               ? 0.0
+                               : hemContrast(stage.mesh, run.result.phi, stage.step, -1.0,
+                                             options_.geometry);
+    run.report.hemContrast = support;
+    int covered = 0;
+    for (const SurfacePoint& p : upperPoints_) covered += p.interpolate(stage.mesh.F, run.result.phi) < 0;
+    const double share =
+        upperPoints_.empty() ? 0.0 : covered / static_cast<double>(upperPoints_.size());
+    const bool found = !run.result.vanished && support >= options_.geometry.hemContrast &&
+                       share > 0.5;
+    if (found) {
+      out.notes.push_back(fmt::format(
+          "upper garment of this person's skin colour found by its edges: B(U|S) on the offset "
+          "from the body runs along its steps (median {:.2f} mm, ≥ {:.1f}) with {:.0f} % of the "
+          "chest and back on the garment side",
+          1000 * support, 1000 * options_.geometry.hemContrast, 100 * share));
+      return true;
+    }
+    out.layout = GarmentLayout::LowerOnly;
+    out.notes.push_back(fmt::format(
+        "no upper garment: torso colour within ΔE {:.1f} of skin, {:.0f} % of its points, and no "
+        "top's edge in the offset from the body (B(U|S) on the geometry: median step {:.2f} mm, "
+        "{:.0f} % of the chest and back on the garment side)",
+        out.upperSkinDeltaE, 100 * out.upperSkinLike, 1000 * support, 100 * share));
+    return false;
   }
 
   void decideLayout(Segmentation& out) {
@@ -617,10 +660,14 @@ class Segmenter {
     const double same = options_.sameColourDeltaE;
     out.shoes = hasFootRegion_ && out.footSkinDeltaE >= same;
     // Skin-like by this person's skin (its spread on the face and hands), not a fixed ΔE.
-    const double skin = personSkinDeltaE();
-    out.skinDeltaE = skin;
-    out.upperSkinLike = skinLikeFraction(kUpper, skin);
-    out.lowerSkinLike = skinLikeFraction(kLower, skin);
+    // A garment is missing when most of its region's points are this skin: the region's mean
+    // colour alone would take a red-and-white striped dress (a pinkish mean) for bare skin.
+    const SkinModel skin =
+        fitSkinModel(colours_.colours[kSkin], options_.skinSpreadFactor, options_.minSkinDeltaE,
+                     options_.sameColourDeltaE);
+    out.skinDeltaE = skin.threshold;
+    out.upperSkinLike = skin.skinLikeFraction(colours_.colours[kUpper]);
+    out.lowerSkinLike = skin.skinLikeFraction(colours_.colours[kLower]);
     // Most of the region's points must be this person's skin; its mean colour need only be
     // skin-like by the population bound (sameColourDeltaE): a bare leg's region also holds a
     // minority of sock, shoe or waistband points that pull the mean by more than the spread of
@@ -630,6 +677,7 @@ class Segmenter {
     out.geometricCues = hasGeometry();
     out.upperOffset = regionOffset_[kUpper];
     out.lowerOffset = regionOffset_[kLower];
+    out.skinOffset = regionOffset_[kSkin];
     if (hasGeometry()) {
       // A region off the body by more than a garment's minimum is clothed whatever its colour (a
       // top of the wearer's skin tone); one on the body is bare when its colour is this person's
@@ -646,6 +694,13 @@ class Segmenter {
             l ? "bare" : "clothed", 1000 * g));
       noUpper = u;
       noLower = l;
+      // A torso of the skin's colour near the body is bare, or a top of the wearer's skin tone
+      // that the fit pushed the body into: B(U|S) on the geometry alone decides
+      // (upperFoundByGeometry). A one-piece decision by colour likewise waits for B(U|L).
+      if (noUpper && !noLower) {
+        tentativeNoUpper_ = true;
+        noUpper = false;
+      }
     }
     if (noUpper && noLower)
       throw InputError(fmt::format(
@@ -662,7 +717,7 @@ class Segmenter {
       out.notes.push_back(fmt::format(
           "no lower garment: leg colour within ΔE {:.1f} of skin, {:.0f} % of its points",
           out.lowerSkinDeltaE, 100 * out.lowerSkinLike));
-    } else if (out.upperLowerDeltaE < same && hasGeometry()) {
+    } else if (out.upperLowerDeltaE < same && hasGeometry() && !tentativeNoUpper_) {
       // The colour says one piece; a hem step between the two regions says two. B(U|L) is run on
       // the steps and decides (splitUpperLower).
       tentativeOnePiece_ = true;
@@ -829,6 +884,7 @@ class Segmenter {
     if (stage.step.size() > 0) {
       s.offset = rows(stage.offset);
       s.step = rows(stage.step);
+      s.smoothOffset = rows(stage.smoothOffset);
     }
     s.scanVertex = rows(stage.scanVertex);
     return s;  // faceOrigin stays empty: a copy's faces lie in no one scan face
@@ -906,6 +962,20 @@ class Segmenter {
         const double o =
             stepOrientation(stage.mesh, stage.offset, stage.step, phi0, kBand, options_.geometry);
         high = o < 0 ? -1.0 : 1.0;  // no step near the curve: the common case, a top worn over
+      }
+      const double gap = job.offsetRegion >= 0
+                             ? regionOffset_[job.offsetRegion] - regionOffset_[kSkin]
+                             : 0.0;
+      if (gap >= options_.geometry.offsetGap) {
+        // Bare skin on the body, the garment off it by its ease: the offset pushes toward the
+        // skin side below the skin's level and toward the garment above the garment's.
+        phiD += options_.geometry.offsetWeight * w * job.offsetSign *
+                offsetDisplacement(stage.smoothOffset, regionOffset_[kSkin],
+                                   regionOffset_[job.offsetRegion]);
+        geometryNotes_.push_back(fmt::format(
+            "boundary {}: the offset from the body joins the displacement (skin at {:.1f} mm, the "
+            "garment at {:.1f} mm, medians)",
+            curve.name, 1000 * regionOffset_[kSkin], 1000 * regionOffset_[job.offsetRegion]));
       }
       phiD = combinedDisplacement(phiD, stepDisplacement(stage.step, high, options_.geometry), w);
       rep.geometryWeight = w;
@@ -1025,10 +1095,13 @@ class Segmenter {
       job.other = Label::Skin;
       job.deltaE = separation(kLower, kSkin);
       job.highSide = -1;  // skin on the positive side
+      job.offsetRegion = kLower;
     } else if (upperOnly) {
       job.other = Label::Skin;
       job.deltaE = separation(kUpper, kSkin);
       job.highSide = 1;  // the top over bare legs
+      job.offsetRegion = kUpper;
+      job.offsetSign = -1;  // the garment on the positive side
     }
     auto [run, cut] = optimiseAndCut(stage, job);
     if (tentativeOnePiece_) {
@@ -1151,6 +1224,9 @@ class Segmenter {
   bool regionClothed_[4] = {false, false, false, false};  // offsetSaysClothed per region
   // Upper and lower of one colour with the geometric cues: one piece unless B(U|L) finds a hem.
   bool tentativeOnePiece_ = false;
+  // A torso of the skin's colour near the body: bare unless B(U|S) finds a top's edges.
+  bool tentativeNoUpper_ = false;
+  std::vector<SurfacePoint> upperPoints_;  // projected upper region points (chest and back)
   std::vector<Vec3> footPoints_;  // projected foot region points
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;

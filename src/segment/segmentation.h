@@ -143,6 +143,7 @@ struct Segmentation {
   // Median offset (m) of the upper / lower region points from the body under the clothes; NaN
   // without that body.
   double upperOffset = 0, lowerOffset = 0;
+  double skinOffset = 0;  // ... and of the skin region points (face and hands)
   bool geometricCues = false;  // the step and offset cues were used
   int regionPoints = 0, droppedRegionPoints = 0;
   double seconds = 0;
@@ -165,7 +166,11 @@ Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, co
 // ScanFit::fittedInScanFrame(), not the full fit that follows the clothes; any mesh of the body
 // surface will do): the garment boundaries also follow the steps of the scan's offset from it
 // where colour cannot tell the sides apart, and a region lying off the body by more than
-// options.geometry.garmentOffset is clothed whatever its colour (segment/body_offset.h).
+// options.geometry.garmentOffset is clothed whatever its colour (segment/body_offset.h). A torso
+// of this person's skin colour lying nearer the body than that (bare, or a top of the wearer's
+// skin tone whose ease the fit took) is decided by B(U|S) run on the geometry alone: a top when
+// its boundary runs along steps of the offset (median vote ≥ geometry.hemContrast) with most of
+// the chest and back on the garment side; bare otherwise (LowerOnly, the run dropped).
 Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, const TriMesh& body,
                          const TriMesh& underBody, const FeatureSet& features,
                          const SegmentationOptions& options = {}, Progress* progress = nullptr);

@@ -6,6 +6,7 @@
 
 #include "body/body_json.h"
 #include "core/error.h"
+#include "core/mesh_query.h"
 #include "eval/boundary_metrics.h"
 #include "eval/evaluation.h"
 #include "eval/labelling.h"
@@ -224,15 +225,52 @@ TEST(Segmentation, SkinToneTopIsFoundByItsEase_Slow) {
   EXPECT_GT(e.meanGarmentIoU, 0.8);
 }
 
+// The body as a fit under the clothes leaves it (§4): pushed out toward the scan by
+// `fraction` of the way wherever the scan lies off it (into a garment's ease), unchanged under
+// bare skin. The suite's fits leave a t-shirt 2–3 mm off the body, below the 6 mm at which a
+// region's offset alone says "clothed".
+TriMesh pushedIntoTheEase(const Case& c, double fraction) {
+  TriMesh body = c.body.posed.mesh;
+  const MeshQuery scan(c.scan.scan.mesh);
+  const std::vector<ClosestHit> hits = scan.closestPoints(body.V);
+  const Eigen::MatrixX3d N = vertexNormals(body);
+  for (int v = 0; v < body.numVertices(); ++v) {
+    const Eigen::Vector3d d = hits[v].point - body.V.row(v).transpose();
+    const double out = d.dot(N.row(v).transpose());
+    if (out > 0) body.V.row(v) += fraction * out * N.row(v);
+  }
+  return body;
+}
+
+// Issue 18 with the body as the fit leaves it: a t-shirt of the wearer's skin tone whose ease
+// the body was pushed into (the torso 2–3 mm off it: its offset alone says "bare") is found by
+// its edges: B(U|S) on the geometry runs along the sleeve hems and the neckline and leaves the
+// chest on the garment side. Without the cues it is taken for a bare torso.
+TEST(Segmentation, SkinToneTopIsFoundByItsEdgesOverABodyPushedIntoItsEase_Slow) {
+  const Case& c = synthCase("skin_tone_top", 12000);
+  const TriMesh under = pushedIntoTheEase(c, 0.75);
+  SegmentationOptions off;
+  off.geometry.enabled = false;
+  const Segmentation colourOnly = segmentScan(c.scan.scan.mesh, c.scan.scan.colour,
+                                              c.body.posed.mesh, under, c.body.features, off);
+  EXPECT_EQ(colourOnly.layout, GarmentLayout::LowerOnly);
+  const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
+                                       under, c.body.features);
+  EXPECT_LT(seg.upperOffset, SegmentationOptions{}.geometry.garmentOffset);  // "bare" by offset
+  EXPECT_EQ(seg.layout, GarmentLayout::UpperLower) << ::testing::PrintToString(seg.notes);
+  EXPECT_GT(score(c, seg).meanGarmentIoU, 0.95);
+}
+
 // A bare torso over trousers: this person's skin (face and hands) takes the torso for skin, and
-// the torso lies on the body under the clothes: no upper garment, with and without that body.
+// the torso lies on the body under the clothes: no upper garment, with and without that body
+// (as a fit under the clothes leaves it: B(U|S) on the geometry finds no top's edge).
 TEST(Segmentation, ShirtlessHasNoUpperGarment_Slow) {
   const Case& c = synthCase("shirtless", 12000);
   for (const bool geometry : {false, true}) {
     SCOPED_TRACE(geometry ? "with the body under the clothes" : "colour only");
     const Segmentation seg =
         geometry ? segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
-                               c.body.posed.mesh, c.body.features)
+                               pushedIntoTheEase(c, 0.75), c.body.features)
                  : segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
                                c.body.features);
     EXPECT_EQ(seg.layout, GarmentLayout::LowerOnly);

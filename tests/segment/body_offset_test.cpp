@@ -195,5 +195,18 @@ TEST(BodyOffset, SkinColouredSleeveWithEaseIsClothed) {
   EXPECT_FALSE(offsetSaysClothed({}));
 }
 
+// The offset as a displacement between skin (+1, on the body) and a garment (−1, off it by its
+// ease), between this scan's two levels.
+TEST(BodyOffset, OffsetDisplacementRampsFromSkinToGarment) {
+  const Eigen::VectorXd o = (Eigen::VectorXd(5) << -0.001, 0.0, 0.0015, 0.003, 0.01).finished();
+  const Eigen::VectorXd d = offsetDisplacement(o, 0.0, 0.003);
+  EXPECT_DOUBLE_EQ(d[0], 1);
+  EXPECT_DOUBLE_EQ(d[1], 1);
+  EXPECT_NEAR(d[2], 0, 1e-12);
+  EXPECT_DOUBLE_EQ(d[3], -1);
+  EXPECT_DOUBLE_EQ(d[4], -1);
+  EXPECT_THROW(offsetDisplacement(o, 0.003, 0.003), InputError);
+}
+
 }  // namespace
 }  // namespace s2p

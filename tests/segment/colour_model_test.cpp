@@ -237,5 +237,37 @@ TEST(ColourModel, BadInputThrowsInputError) {
   EXPECT_THROW(fitGaussianMixture(Eigen::MatrixX3d(0, 3)), InputError);
 }
 
+// Issue 18, the person's own skin, a known answer: a skin model sampled on a face patch takes a
+// bare torso of the same tone (other samples, other shading noise) for skin, i.e. not a garment,
+// and a beige top 8 ΔE off that skin for a garment. With the person's spread turned off (the
+// population's bound, ΔE 10, as the threshold) the beige top is taken for bare skin.
+TEST(ColourModel, SkinModelFromAFacePatchTellsABareTorsoFromASkinToneTop) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> shade(0, 0.8);  // ΔE-sized scanner noise per channel
+  const Eigen::Vector3d skinLab(66, 14, 17);
+  const auto patch = [&](const Eigen::Vector3d& lab, int n) {
+    Eigen::MatrixX3d out(n, 3);
+    for (int i = 0; i < n; ++i)
+      out.row(i) = (lab + Eigen::Vector3d(shade(rng), shade(rng), shade(rng))).transpose();
+    return out;
+  };
+  const Eigen::MatrixX3d face = patch(skinLab, 40);
+  const Eigen::MatrixX3d torso = patch(skinLab, 60);
+  // A beige 8 ΔE2000 from the skin: lighter and less saturated.
+  Eigen::Vector3d beige = skinLab;
+  for (double t = 0; deltaE2000(beige, skinLab) < 8.0; t += 0.01)
+    beige = skinLab + t * Eigen::Vector3d(1.0, -0.6, -0.3);
+  const Eigen::MatrixX3d top = patch(beige, 60);
+
+  const SkinModel person = fitSkinModel(face);
+  EXPECT_LT(person.threshold, 8.0);
+  EXPECT_GT(person.skinLikeFraction(torso), 0.9);  // the bare torso is skin, not a garment
+  EXPECT_LT(person.skinLikeFraction(top), 0.1);    // the beige top is a garment
+
+  const SkinModel population = fitSkinModel(face, 2.0, 10.0, 10.0);  // the cue off
+  EXPECT_GT(population.skinLikeFraction(top), 0.5);  // ... takes the top for skin
+  EXPECT_THROW(fitSkinModel(Eigen::MatrixX3d(0, 3)), InputError);
+}
+
 }  // namespace
 }  // namespace s2p
