@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <future>
 #include <memory>
 #include <sstream>
 
@@ -60,6 +61,25 @@ BodyModel loadModel(const std::string& spec, Progress& progress) {
   return m;
 }
 
+// The scan and the body model, the model built while the scan is read and cleaned: neither
+// needs the other (the mannequin takes 0.7 s to build, a 50k scan 0.3 s to read and clean).
+// The progress line of the model shows what is left to wait for once the scan is in.
+struct ScanAndModel {
+  LoadedScan scan;
+  BodyModel model;
+};
+ScanAndModel loadScanAndModel(const fs::path& scanPath, const LoadOptions& load,
+                              const std::string& spec, Progress& progress) {
+  // A std::async future waits for its task when destroyed, also when loadScan throws.
+  std::future<BodyModel> model =
+      std::async(std::launch::async, [spec] { return loadBodyModel(spec); });
+  ScanAndModel out{loadScan(scanPath, load, progress), {}};
+  progress.begin("load body model " + spec);
+  out.model = model.get();
+  progress.end();
+  return out;
+}
+
 ScanFitOptions scanFitOptions(const FitCommand& cmd, const Scan& scan) {
   ScanFitOptions o;
   o.nonrigid = !cmd.noNonrigid;
@@ -69,8 +89,7 @@ ScanFitOptions scanFitOptions(const FitCommand& cmd, const Scan& scan) {
 }
 
 int runFit(const FitCommand& cmd, Progress& progress) {
-  const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
-  const BodyModel model = loadModel(cmd.model, progress);
+  const auto [loaded, model] = loadScanAndModel(cmd.scan, cmd.load, cmd.model, progress);
   const ScanFit fit = fitScan(loaded.scan.mesh, model, scanFitOptions(cmd, loaded.scan), &progress);
   progress.begin("write outputs");
   writeFit(cmd.out, loaded.scan, model, fit);
@@ -95,8 +114,7 @@ struct RunCommand {
 
 int runRun(const RunCommand& cmd, Progress& progress) {
   requireWritableFolder(cmd.fit.out);
-  const LoadedScan loaded = loadScan(cmd.fit.scan, cmd.fit.load, progress);
-  const BodyModel model = loadModel(cmd.fit.model, progress);
+  const auto [loaded, model] = loadScanAndModel(cmd.fit.scan, cmd.fit.load, cmd.fit.model, progress);
   SegmentationOptions so;
   so.boundary.faithful = cmd.faithful;
   DrapeStageOptions drape;

@@ -38,9 +38,9 @@ void writePng(const std::filesystem::path& path, const Image& image) {
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = PNG_FORMAT_RGB;
-  png_alloc_size_t bytes = 0;
-  if (!png_image_write_to_memory(&png, nullptr, &bytes, 0, image.rgb.data(), 0, nullptr))
-    throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " + png.message);
+  // One pass into a buffer of the largest size the image can take: asking libpng for the size
+  // first encodes the image twice. (PNG_IMAGE_FLAG_FAST would make the files 40–60 % larger.)
+  png_alloc_size_t bytes = PNG_IMAGE_PNG_SIZE_MAX(png);
   std::string encoded(bytes, '\0');
   if (!png_image_write_to_memory(&png, encoded.data(), &bytes, 0, image.rgb.data(), 0, nullptr))
     throw IoError("writePng " + path.string() + ": libpng cannot encode the image: " + png.message);

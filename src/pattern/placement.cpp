@@ -1,9 +1,11 @@
 #include "pattern/placement.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "body/posing.h"
@@ -44,15 +46,55 @@ int jointIndex(const BodyModel& model, Canonical c) {
   return j;
 }
 
-// Least signed distance of the points to the body (negative inside).
-double leastClearance(const MeshQuery& body, const Eigen::MatrixX3d& P) {
-  const std::vector<ClosestHit> hits = body.closestPoints(P);
-  const Eigen::VectorXd winding = body.windingNumbers(P);
-  double least = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < P.rows(); ++i)
-    least = std::min(least, winding(i) > 0.5 ? -hits[i].distance : hits[i].distance);
-  return least;
-}
+// Signed distances of a panel's vertices to the closed rest body (negative inside), while the
+// panel moves out along its normal. Where the closest point lies inside a face, the side of that
+// face's plane is the sign (exact on a closed surface); a closest point on an edge or a vertex
+// takes a winding number. A point at distance d cannot cross the surface by moving less than d,
+// so after a move by δ only the points that were within δ of it are tested again. (A 50k scan's
+// eight panels, 46k vertices: 1.6 s with a winding number for every vertex at every step.)
+class Clearance {
+ public:
+  Clearance(const MeshQuery& body, const Eigen::MatrixX3d& faceNormals)
+      : body_(body), normals_(faceNormals) {}
+
+  // Least signed distance of P, which moved by `moved` (m) since the last call (ignored on the
+  // first call, when every sign is decided).
+  double least(const Eigen::MatrixX3d& P, double moved) {
+    const std::vector<ClosestHit> hits = body_.closestPoints(P);
+    const int n = static_cast<int>(P.rows());
+    const bool first = inside_.size() != static_cast<size_t>(n);
+    if (first) inside_.assign(n, 0);
+    std::vector<int> winding;  // points whose sign needs the winding number
+    for (int i = 0; i < n; ++i) {
+      if (!first && distance_[i] > moved) continue;  // cannot have crossed the surface
+      const ClosestHit& h = hits[i];
+      constexpr double kInsideFace = 1e-6;  // barycentric margin: the closest point is not on an edge
+      if (h.bary.minCoeff() > kInsideFace)
+        inside_[i] = (P.row(i).transpose() - h.point).dot(normals_.row(h.face).transpose()) < 0;
+      else
+        winding.push_back(i);
+    }
+    if (!winding.empty()) {
+      Eigen::MatrixX3d Q(winding.size(), 3);
+      for (size_t k = 0; k < winding.size(); ++k) Q.row(k) = P.row(winding[k]);
+      const Eigen::VectorXd w = body_.windingNumbers(Q);
+      for (size_t k = 0; k < winding.size(); ++k) inside_[winding[k]] = w(k) > 0.5;
+    }
+    distance_.resize(n);
+    double least = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n; ++i) {
+      distance_[i] = hits[i].distance;
+      least = std::min(least, inside_[i] ? -hits[i].distance : hits[i].distance);
+    }
+    return least;
+  }
+
+ private:
+  const MeshQuery& body_;
+  const Eigen::MatrixX3d& normals_;
+  std::vector<char> inside_;
+  std::vector<double> distance_;  // unsigned, at the last call
+};
 
 // The outward normal of the part: its area vector when the part is open enough to have one;
 // a sleeve or trouser-leg panel wraps nearly all around its limb and its area vector is short,
@@ -117,6 +159,7 @@ Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
   out.underBody = TriMesh(underV, drape.mesh.F);
   out.canonical = drape.canonical.rowwise() + shift.transpose();
   const MeshQuery bodyQuery(out.restBody);
+  const Eigen::MatrixX3d bodyNormals = faceNormals(out.restBody);
 
   // Garment frame → rest frame for a point bound to joint j.
   auto jointTransform = [&](Canonical c) {
@@ -131,11 +174,12 @@ Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
   }();
 
   out.panels.resize(panels.panels.size());
-  for (size_t p = 0; p < panels.panels.size(); ++p) {
+  std::vector<std::string> warnings(panels.panels.size());  // per panel: they run side by side
+  tbb::parallel_for(size_t{0}, panels.panels.size(), [&](size_t p) {
     const Panel& panel = panels.panels[p];
     const FlatPanel& fp = flat.panels[p];
     PlacedPanel& pp = out.panels[p];
-    if (!fp.error.empty() || fp.remeshed.V.rows() == 0) continue;
+    if (!fp.error.empty() || fp.remeshed.V.rows() == 0) return;
     const GarmentKind kind = panels.garments[panel.garmentIndex].kind;
     pp.joint = bindingJoint(panel, kind, garmentCanonical);
     const Eigen::Affine3d M = jointTransform(pp.joint);
@@ -173,23 +217,27 @@ Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
     // Out along the normal until every vertex clears the body. A signed distance changes by at
     // most d when a point moves by d, so a shortfall of δ needs at least δ more: the search
     // jumps by max(step, δ) and takes a handful of queries.
-    double s = 0;
+    double s = 0, moved = 0;
+    Clearance clearance(bodyQuery, bodyNormals);
     while (true) {
       pp.V = flat3.rowwise() + (s * normal).transpose();
-      pp.clearance = leastClearance(bodyQuery, pp.V);
+      pp.clearance = clearance.least(pp.V, moved);
       if (pp.clearance >= options.clearance || s > options.maxOffset) break;
-      s += std::max(options.step, options.clearance - pp.clearance);
+      moved = std::max(options.step, options.clearance - pp.clearance);
+      s += moved;
     }
     if (pp.clearance < options.clearance)
-      out.warnings.push_back(fmt::format(
+      warnings[p] = fmt::format(
           "panel '{}' of {}: {:.0f} cm out along its normal it still comes within {:.1f} cm "
           "of the rest body",
-          panel.name, panel.garment, 100 * options.maxOffset, 100 * pp.clearance));
+          panel.name, panel.garment, 100 * options.maxOffset, 100 * pp.clearance);
     pp.offset = s;
     pp.t = t + s * normal;
     pp.distanceToPart = (pp.V - pp.part).rowwise().norm().mean();
     pp.placed = true;
-  }
+  });
+  for (std::string& w : warnings)
+    if (!w.empty()) out.warnings.push_back(std::move(w));
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
