@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,8 @@
 #include <string>
 
 #include "cli_support.h"
+#include "core/mesh_query.h"
+#include "io/read_scan.h"
 #include "test_support.h"
 
 namespace s2p {
@@ -76,6 +79,21 @@ TEST_F(DemoPattern, StitchesPairPanelsObjVerticesAndTheirSidesAgree_Slow) {
   const nlohmann::json report = readJson(dir_->path() / "demo" / "report.json");
   for (const auto& p : report["placement"]["panels"])
     EXPECT_GE(p["clearance_m"].get<double>(), 0.0199) << p["panel"] << " intersects the rest body";
+  // The same, measured here independently of placement's own search: every vertex of
+  // panels.obj outside body_rest.obj by its winding number and at least 2 cm from it.
+  const Scan body = readScan(pattern() / "body_rest.obj", {.loadTexture = false});
+  const Scan placed = readScan(pattern() / "panels.obj", {.loadTexture = false});
+  const MeshQuery query(body.mesh);
+  const Eigen::VectorXd winding = query.windingNumbers(placed.mesh.V);
+  const std::vector<ClosestHit> hits = query.closestPoints(placed.mesh.V);
+  int inside = 0;
+  double least = 1e9;
+  for (int v = 0; v < placed.mesh.numVertices(); ++v) {
+    inside += winding(v) > 0.5;
+    least = std::min(least, hits[v].distance);
+  }
+  EXPECT_EQ(inside, 0) << "placed vertices inside the rest body";
+  EXPECT_GE(least, 0.0199) << "a placed vertex within 2 cm of the rest body";
 }
 
 TEST_F(DemoPattern, GarmentCodesOwnLoaderReadsThePattern_Slow) {
