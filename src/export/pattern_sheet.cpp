@@ -107,6 +107,10 @@ void writeSheetPng(const std::filesystem::path& path, const std::vector<SheetPie
   for (size_t i = 0; i < pieces.size(); ++i) {
     const SheetPiece& piece = pieces[i];
     const Eigen::Vector2d off = offset.row(static_cast<int>(i)).transpose();
+    // Faces filled without antialiasing: pixel-centre coverage tiles adjacent triangles with no
+    // gap and no seam, so no stroke is needed to hide one (a fill and a stroke per face took a
+    // 50k scan's two sheets 1.3 s). The outlines drawn over them are antialiased.
+    cairo_set_antialias(cr, CAIRO_ANTIALIAS_NONE);
     for (int f = 0; f < piece.F.rows(); ++f) {
       for (int k = 0; k < 3; ++k) {
         const Eigen::Vector2d q = px(piece.V.row(piece.F(f, k)).transpose() + off);
@@ -115,10 +119,9 @@ void writeSheetPng(const std::filesystem::path& path, const std::vector<SheetPie
       }
       cairo_close_path(cr);
       setColour(cr, f < static_cast<int>(piece.faceColour.size()) ? piece.faceColour[f] : Rgb{220, 220, 220});
-      cairo_fill_preserve(cr);
-      cairo_set_line_width(cr, 0.5);
-      cairo_stroke(cr);
+      cairo_fill(cr);
     }
+    cairo_set_antialias(cr, CAIRO_ANTIALIAS_DEFAULT);
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 2);
     for (const Eigen::MatrixX2d& o : piece.outlines) {
