@@ -38,6 +38,8 @@ PanelsInput panelsInput(const Segmentation& segmentation, const PosedFeatures& b
   in.body = body.body;
   in.features = body.features;
   in.canonical = body.canonical;
+  if (body.model && body.model->numVertices() == body.body.numVertices())
+    in.bodyLimbWeight = limbWeights(*body.model);
   return in;
 }
 
