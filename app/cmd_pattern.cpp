@@ -29,6 +29,7 @@ struct PanelsCommand {
   std::string truth;
   std::string segmentation;
   std::string score;  // a synthetic scan's truth.json to score the panels against
+  bool armholeBodyParts = false;
   std::string out = "panels_out";
   LoadOptions load;
   PrintOptions print;
@@ -82,7 +83,7 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   in.body = body.body;
   in.features = body.features;
   in.canonical = body.canonical;
-  if (body.model && body.model->numVertices() == body.body.numVertices())
+  if (cmd.armholeBodyParts && body.model && body.model->numVertices() == body.body.numVertices())
     in.bodyLimbWeight = limbWeights(*body.model);
   try {
     for (const json& g : garments.at("garments")) {
@@ -181,6 +182,11 @@ void addPatternCommands(CLI::App& app, Commands& out) {
   cmd->add_option("--score", c->score,
                   "A synthetic scan's truth.json: write pattern_score.json (garment types, panel "
                   "sets, armhole − armpit, mirror areas, side seams against it)");
+  cmd->add_flag("--armhole-body-parts", c->armholeBodyParts,
+                "Also hold the armhole seam's function at +1 where the fitted body calls the "
+                "garment trunk (closest body vertex with an agreeing normal, by its skinning "
+                "weights): keeps a sleeve joined to the torso's side from turning the side into "
+                "sleeve. Experimental: not yet on in `run`");
   cmd->add_option("-o,--out", c->out, "Output folder (default panels_out)");
   addLoadOptions(cmd, c->load);
   addPatternOptions(cmd, c->pattern);

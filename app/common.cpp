@@ -286,11 +286,6 @@ void addPatternOptions(CLI::App* cmd, PatternOptions& pattern) {
       "Length of the filter that takes the scanner's noise out of each garment panel before "
       "it is flattened, mm (default 5; 0: flatten the scan as it is). Noise makes every scanned "
       "edge longer than the cloth, and so the pattern too big");
-  cmd->add_flag_callback(
-      "--no-armhole-body-parts",
-      [&pattern] { pattern.panels.seams.partMaxDistance = 0; },
-      "Hold the armhole seam's function only where the paper does (anchors, cuffs, neckline and "
-      "hem), not also on the garment the fitted body calls trunk or arm (for comparison)");
 }
 
 void addPrintOptions(CLI::App* cmd, PrintOptions& print) {
