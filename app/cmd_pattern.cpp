@@ -2,7 +2,9 @@
 // panels, flattening, placement, stitches and the pattern files.
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 
@@ -11,7 +13,9 @@
 #include "app/pattern_output.h"
 #include "app/segment_output.h"
 #include "core/error.h"
+#include "eval/pattern_metrics.h"
 #include "io/read_scan.h"
+#include "synth/truth.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -24,6 +28,8 @@ struct PanelsCommand {
   std::string body;
   std::string truth;
   std::string segmentation;
+  std::string score;  // a synthetic scan's truth.json to score the panels against
+  bool armholeBodyParts = false;
   std::string out = "panels_out";
   LoadOptions load;
   PrintOptions print;
@@ -77,6 +83,8 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   in.body = body.body;
   in.features = body.features;
   in.canonical = body.canonical;
+  if (cmd.armholeBodyParts && body.model && body.model->numVertices() == body.body.numVertices())
+    in.bodyLimbWeight = limbWeights(*body.model);
   try {
     for (const json& g : garments.at("garments")) {
       PanelsInput::Garment pg;
@@ -103,6 +111,47 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   writeFlatPattern(cmd.out, loaded.scan, r.panels, r.flat);
   writePatternFiles(cmd.out, loaded.scan, r, cmd.print);
   writeJson(fs::path(cmd.out) / "placement.json", placementToJson(r));
+  if (!cmd.score.empty()) {
+    const PatternScore ps = scorePattern(r.panels, readTruth(cmd.score), in.body, in.canonical);
+    json armholes = json::object(), mirror = json::object(), sides = json::object();
+    for (const auto& [n, d] : ps.armholeToArmpit) armholes[n] = 1000 * d;
+    for (const auto& [n, d] : ps.mirrorAreaDiff) mirror[n] = d;
+    for (const auto& [n, a] : ps.sideSeamAngle) sides[n] = a;
+    // Each cuff's lowest point against the armpit: where a sleeve meets the trunk from its cuff
+    // up (arms pressed to the sides), the armhole seam can come no higher than this.
+    const BodyFrame frame(in.canonical);
+    json cuffs = json::object();
+    for (const GarmentPanels& g : r.panels.garments)
+      for (int pi : g.panels)
+        for (const PanelEdge& e : r.panels.panels[pi].edges) {
+          if (!e.opening || e.name.find("_cuff") == std::string::npos) continue;
+          const double armpit = armpitHeight(in.body, frame, e.name.rfind("left", 0) == 0);
+          double low = std::numeric_limits<double>::infinity();
+          for (int v : e.vertices)
+            low = std::min(low, frame.height(r.panels.panels[pi].mesh.V.row(v).transpose()));
+          const std::string key = g.name + ":" + e.name;
+          if (std::isfinite(armpit) && std::isfinite(low))
+            cuffs[key] = std::min(cuffs.value(key, 1e9), 1000 * (low - armpit));
+        }
+    json garments = json::array();
+    for (const GarmentPatternScore& g : ps.garments)
+      garments.push_back({{"truth", g.truthGarment},
+                          {"expected_type", g.expectedType},
+                          {"found_type", g.foundType},
+                          {"found_panels", g.foundPanels},
+                          {"type_ok", g.typeOk},
+                          {"panels_ok", g.panelsOk}});
+    writeJson(fs::path(cmd.out) / "pattern_score.json",
+              {{"garments", garments},
+               {"panels", ps.panels},
+               {"disks", ps.disks},
+               {"unpartnered", ps.unpartnered},
+               {"max_partner_mismatch", ps.maxPartnerMismatch},
+               {"armhole_minus_armpit_mm", armholes},
+               {"cuff_minus_armpit_mm", cuffs},
+               {"mirror_area_diff", mirror},
+               {"side_seam_degrees", sides}});
+  }
   progress.end();
   printPanels(r.panels);
   printFlatPattern(r.panels, r.flat);
@@ -130,6 +179,14 @@ void addPatternCommands(CLI::App& app, Commands& out) {
   cmd->add_option("--segmentation", c->segmentation,
                   "The folder `segment` wrote (garments.json and the garment OBJs)")
       ->required();
+  cmd->add_option("--score", c->score,
+                  "A synthetic scan's truth.json: write pattern_score.json (garment types, panel "
+                  "sets, armhole − armpit, mirror areas, side seams against it)");
+  cmd->add_flag("--armhole-body-parts", c->armholeBodyParts,
+                "Also hold the armhole seam's function at +1 where the fitted body calls the "
+                "garment trunk (closest body vertex with an agreeing normal, by its skinning "
+                "weights): keeps a sleeve joined to the torso's side from turning the side into "
+                "sleeve. Experimental: not yet on in `run`");
   cmd->add_option("-o,--out", c->out, "Output folder (default panels_out)");
   addLoadOptions(cmd, c->load);
   addPatternOptions(cmd, c->pattern);

@@ -66,6 +66,8 @@ json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput) {
                        {"sign_points", s.signs},
                        {"dropped_sign_points", s.droppedSigns},
                        {"dropped_with_their_pair", s.pairedDrops},
+                       {"trunk_points", s.trunkPoints},
+                       {"sleeve_points", s.sleevePoints},
                        {"splines_kept", s.splinesKept},
                        {"splines_removed", s.splinesRemoved},
                        {"islands_removed", s.islandsRemoved},

@@ -6,6 +6,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/SparseCore>
 
 #include "core/error.h"
 
@@ -75,6 +79,32 @@ LimbPlace BodyFrame::nearestLimb(const Eigen::Vector3d& p) const {
     if (q.distance < best.distance) best = q;
   }
   return best;
+}
+
+Eigen::MatrixXd limbWeights(const BodyModel& model) {
+  using C = Canonical;
+  const int nJ = model.numJoints();
+  const std::array<std::pair<C, Limb>, 5> roots{{{C::LeftShoulder, Limb::LeftArm},
+                                                 {C::RightShoulder, Limb::RightArm},
+                                                 {C::LeftHip, Limb::LeftLeg},
+                                                 {C::RightHip, Limb::RightLeg},
+                                                 {C::Neck, Limb::Neck}}};
+  std::vector<Limb> limbOf(static_cast<size_t>(nJ), Limb::Torso);
+  for (int j = 0; j < nJ; ++j)
+    for (int a = j; a >= 0; a = model.parents[a]) {
+      bool found = false;
+      for (const auto& [c, limb] : roots)
+        if (model.canonical[static_cast<int>(c)].joint == a) {
+          limbOf[j] = limb;
+          found = true;
+        }
+      if (found) break;
+    }
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(model.numVertices(), 6);
+  for (int v = 0; v < model.weights.outerSize(); ++v)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(model.weights, v); it; ++it)
+      out(v, static_cast<int>(limbOf[it.col()])) += it.value();
+  return out;
 }
 
 }  // namespace s2p

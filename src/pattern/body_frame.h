@@ -45,4 +45,11 @@ class BodyFrame {
   Eigen::Vector3d up_, left_, front_;
 };
 
+// Which limb each vertex of the model belongs to, by its skinning weights: #V×6, column
+// static_cast<int>(Limb), the vertex's weights summed over the limb's joints (an arm: its shoulder
+// joint and every joint below it; a leg: its hip and below; the neck: the neck and below; the
+// torso: every other joint). Rows sum to 1. Posing keeps the weights, so the rows hold for the
+// posed and the fully fitted body alike (same vertices).
+Eigen::MatrixXd limbWeights(const BodyModel& model);
+
 }  // namespace s2p

@@ -245,7 +245,7 @@ class GarmentPanelizer {
     gp.openings = classifyOpenings(mesh, topo, garment_.kind, frame_);
     gp.seams = seams ? std::move(*seams)
                      : estimateSeams(mesh, garment_.kind, in_.body, in_.features, gp.openings,
-                                     options_.seams);
+                                     options_.seams, in_.bodyLimbWeight);
     for (const SeamLine& s : gp.seams)
       if (!s.kept)
         gp.notes.push_back(fmt::format("seam '{}' removed: {}", s.name, s.removedWhy));

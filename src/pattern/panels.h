@@ -68,6 +68,9 @@ struct PanelsInput {
   TriMesh body;  // the posed fully fitted body, carrying `features`
   FeatureSet features;
   Eigen::MatrixX3d canonical;  // kNumCanonical×3, the posed body's canonical points
+  // #V of body × 6: each body vertex's skinning weight per Limb (limbWeights); empty when the
+  // body came without its model (the armhole seam then has no body-part constraints).
+  Eigen::MatrixXd bodyLimbWeight;
 };
 
 struct PanelOptions {

@@ -2,10 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <nanoflann.hpp>
+
+#include <array>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <optional>
+#include <unordered_map>
+#include <utility>
 
 #include "core/error.h"
 #include "core/mesh_query.h"
@@ -89,6 +96,110 @@ void addOpeningConstraints(const MeshTopology& topo, const TriMesh& mesh, const 
   }
 }
 
+// nanoflann view of a mesh's vertices.
+struct VertexCloud {
+  const Eigen::MatrixX3d* V = nullptr;
+  size_t kdtree_get_point_count() const { return static_cast<size_t>(V->rows()); }
+  double kdtree_get_pt(size_t i, size_t d) const {
+    return (*V)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(d));
+  }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using VertexTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, VertexCloud>,
+                                        VertexCloud, 3, std::uint32_t>;
+
+// Garment vertices about `spacing` apart (greedy in vertex order on a grid of that cell size),
+// none within `clearance` of a point of `avoid`.
+std::vector<int> spacedVertices(const TriMesh& mesh, double spacing, const std::vector<Vec3>& avoid,
+                                double clearance) {
+  std::unordered_map<std::int64_t, std::vector<int>> grid;
+  const auto cell = [&](const Vec3& p, int dx, int dy, int dz) {
+    const std::int64_t x = static_cast<std::int64_t>(std::floor(p.x() / spacing)) + dx;
+    const std::int64_t y = static_cast<std::int64_t>(std::floor(p.y() / spacing)) + dy;
+    const std::int64_t z = static_cast<std::int64_t>(std::floor(p.z() / spacing)) + dz;
+    return (x & 0x1FFFFF) | ((y & 0x1FFFFF) << 21) | ((z & 0x1FFFFF) << 42);
+  };
+  std::vector<int> out;
+  for (int v = 0; v < mesh.numVertices(); ++v) {
+    const Vec3 p = mesh.V.row(v).transpose();
+    bool free = true;
+    for (const Vec3& a : avoid) free &= (a - p).norm() >= clearance;
+    for (int dx = -1; dx <= 1 && free; ++dx)
+      for (int dy = -1; dy <= 1 && free; ++dy)
+        for (int dz = -1; dz <= 1 && free; ++dz) {
+          const auto it = grid.find(cell(p, dx, dy, dz));
+          if (it == grid.end()) continue;
+          for (int w : it->second) free &= (mesh.V.row(w).transpose() - p).norm() >= spacing;
+        }
+    if (!free) continue;
+    grid[cell(p, 0, 0, 0)].push_back(v);
+    out.push_back(v);
+  }
+  return out;
+}
+
+// Beyond §6.1.2: the armhole function held where the fitted body says which part the garment
+// covers (SeamOptions::partNormalDot and below). sleeved[0]: the left arm has a sleeve,
+// sleeved[1]: the right. Appends to `out`; counts them in `seam`.
+void addBodyPartConstraints(const TriMesh& garment, const MeshTopology& topo, const TriMesh& body,
+                            const Eigen::MatrixXd& limbW, const std::array<bool, 2>& sleeved,
+                            const std::vector<Vec3>& anchors, double bodyLength,
+                            const SeamOptions& o, SeamLine& seam,
+                            std::vector<ValueConstraint>& out) {
+  const std::vector<int> samples =
+      spacedVertices(garment, o.partSpacing, anchors, o.partAnchorClearance);
+  if (samples.empty()) return;
+  Eigen::MatrixX3d gn = vertexNormals(garment);
+  const Eigen::MatrixX3d bn = vertexNormals(body);
+  const VertexCloud cloud{&body.V};
+  const VertexTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  // The garment's orientation against the body's (outward): the nearest body vertex's normal
+  // agrees with most of a garment's normals when both face out.
+  int agree = 0;
+  for (int v : samples) {
+    std::uint32_t i = 0;
+    double d2 = 0;
+    const Vec3 p = garment.V.row(v).transpose();  // V is column-major: rows are not contiguous
+    tree.knnSearch(p.data(), 1, &i, &d2);
+    agree += gn.row(v).dot(bn.row(static_cast<int>(i))) >= 0 ? 1 : -1;
+  }
+  if (agree < 0) gn = -gn;
+  const double radius = o.partMaxDistance * bodyLength;
+  const int left = static_cast<int>(Limb::LeftArm), right = static_cast<int>(Limb::RightArm);
+  std::vector<std::pair<std::uint32_t, double>> hits;
+  for (int v : samples) {
+    const Vec3 p = garment.V.row(v).transpose();
+    hits.clear();
+    tree.radiusSearch(p.data(), radius * radius, hits, nanoflann::SearchParams(32, 0, true));
+    int b = -1;
+    for (const auto& [i, d2] : hits)
+      if (gn.row(v).dot(bn.row(static_cast<int>(i))) >= o.partNormalDot) {
+        b = static_cast<int>(i);
+        break;
+      }
+    if (b < 0) {
+      ++seam.unmatchedPoints;
+      continue;
+    }
+    const double wl = limbW(b, left), wr = limbW(b, right);
+    double value = 0;
+    if (wl + wr <= o.trunkArmWeight) {
+      value = +1;
+      ++seam.trunkPoints;
+    } else if ((sleeved[0] && wl >= o.sleeveArmWeight) || (sleeved[1] && wr >= o.sleeveArmWeight)) {
+      value = -1;
+      ++seam.sleevePoints;
+    } else {
+      continue;
+    }
+    out.push_back({SurfacePoint::atVertex(topo, garment.F, v), value});
+  }
+}
+
 }  // namespace
 
 std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology& topology,
@@ -139,7 +250,8 @@ namespace {
 std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
                                   const FeatureSet& features,
                                   const std::vector<Opening>& openings,
-                                  const SeamOptions& options) {
+                                  const SeamOptions& options,
+                                  const Eigen::MatrixXd& bodyLimbWeight) {
   ProjectionOptions popt = options.projection;
   const BoundingBox bb = boundingBox(body.V);
   popt.bodyLength = std::max(bb.extent().maxCoeff(), 1e-3);
@@ -165,6 +277,7 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
     std::vector<std::vector<SurfacePoint>> zeros;
     std::vector<ValueConstraint> signs;
     std::vector<Vec3> prior;
+    std::array<bool, 2> sleeved{false, false};  // left, right arm: its armhole spline kept
     for (const std::string& fname : names) {
       const CurveFeatures* f = features.seam(fname);
       if (!f)
@@ -216,6 +329,7 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
         }
         seam.splinesKept.push_back(s.name);
         if (kind_ == SeamKind::Armhole) {
+          sleeved[*arm == Limb::LeftArm ? 0 : 1] = true;
           // §6.1.2: zero on the projected anchors only, not on a spline through them.
           std::vector<SurfacePoint> pts;
           for (const ProjectedPoint& q : kept) {
@@ -253,6 +367,10 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
       for (const Opening& o : openings)
         if (o.name == "neckline" || o.name == "hem")
           addOpeningConstraints(topo, garment, o, options.boundaryConstraintSpacing, +1.0, signs);
+    if (kind_ == SeamKind::Armhole && !zeros.empty() && bodyLimbWeight.rows() > 0 &&
+        options.partMaxDistance > 0)
+      addBodyPartConstraints(garment, topo, body, bodyLimbWeight, sleeved, prior, popt.bodyLength,
+                             options, seam, signs);
     seam.prior.resize(static_cast<int>(prior.size()), 3);
     for (size_t i = 0; i < prior.size(); ++i) seam.prior.row(static_cast<int>(i)) = prior[i].transpose();
 
@@ -271,6 +389,8 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
         const Eigen::VectorXd phi0 = optimizer->initialImplicit(zeros, signs);
         if (std::getenv("S2P_DEBUG_SEAMS")) {
           const Isoline iso0 = extractIsoline(garment, topo, phi0);
+          fmt::print(stderr, "seam {}: {} trunk and {} sleeve body-part points\n", seam.name,
+                     seam.trunkPoints, seam.sleevePoints);
           fmt::print(stderr, "seam {}: {} zero sets, {} signs (+{} −{}), phi0 [{:.3f}, {:.3f}], {} curves, length {:.3f}\n",
                      seam.name, zeros.size(), signs.size(), pos, neg, phi0.minCoeff(), phi0.maxCoeff(),
                      iso0.curves.size(), iso0.length());
@@ -323,14 +443,21 @@ std::vector<Opening> openingsOnCopy(const std::vector<Opening>& openings, const 
 std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
                                     const FeatureSet& features,
                                     const std::vector<Opening>& openings,
-                                    const SeamOptions& options) {
+                                    const SeamOptions& options,
+                                    const Eigen::MatrixXd& bodyLimbWeight) {
   validateMesh(garment, "garment");
+  if (bodyLimbWeight.rows() > 0 &&
+      (bodyLimbWeight.rows() != body.numVertices() || bodyLimbWeight.cols() != 6 ||
+       !bodyLimbWeight.allFinite()))
+    throw InputError(fmt::format("pattern: the body's limb weights are {}×{}, {}×6 finite values "
+                                 "expected (one row per body vertex: limbWeights of its model)",
+                                 bodyLimbWeight.rows(), bodyLimbWeight.cols(), body.numVertices()));
   const std::optional<CoarseMesh> copy =
       options.coarseVertices > 0 ? decimatedCopy(garment, options.coarseVertices) : std::nullopt;
-  if (!copy) return seamsOnMesh(garment, kind, body, features, openings, options);
+  if (!copy) return seamsOnMesh(garment, kind, body, features, openings, options, bodyLimbWeight);
   std::vector<SeamLine> seams =
       seamsOnMesh(copy->mesh, kind, body, features,
-                  openingsOnCopy(openings, *copy, garment.numVertices()), options);
+                  openingsOnCopy(openings, *copy, garment.numVertices()), options, bodyLimbWeight);
   const CoarseToFine map(copy->mesh, garment);
   const MeshTopology topo(garment.F, garment.numVertices());
   for (SeamLine& seam : seams) {

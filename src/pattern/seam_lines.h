@@ -50,6 +50,24 @@ struct SeamOptions {
   double splineSpacing = 0.005;  // m between zero constraints along a spline
   // The armhole seam's extra constraints (§6.1.2): boundary points about this far apart (m).
   double boundaryConstraintSpacing = 0.02;
+  // Beyond §6.1.2: the armhole function also holds the garment where the fitted body says which
+  // part it covers. A garment vertex's body part is that of its closest body vertex whose normal
+  // agrees with the garment's (n·n ≥ partNormalDot: a sleeve pressed against the torso sees the
+  // torso's side under it only from outside, the arm's inner side faces the other way), within
+  // partMaxDistance × the body's height. It is trunk (+1) when that vertex's arm skinning weight
+  // is ≤ trunkArmWeight, sleeve (−1) when the weight of a sleeved arm is ≥ sleeveArmWeight;
+  // between them (the arm root, where skinning blends) the anchors decide. Points about
+  // partSpacing apart, none closer than partAnchorClearance to a surviving anchor.
+  // Sleeve points are off by default (> 1): at 0.95 they pulled baked_light's left armhole
+  // 36 mm down the torso's front under the arm (the mannequin's arm weights fall below 0.05 only
+  // well down the torso's side, so no trunk point held the line there); the cuff holds the
+  // sleeve side as the paper does.
+  double partNormalDot = 0.5;
+  double partMaxDistance = 0.05;  // fraction of the body's height (≈ 8.5 cm); 0: none
+  double trunkArmWeight = 0.05;
+  double sleeveArmWeight = 2.0;  // > 1: no sleeve points
+  double partSpacing = 0.03;          // m
+  double partAnchorClearance = 0.04;  // m
   // m²: regions of the seam's sign holding no sign point flip to their surroundings' side when
   // smaller than this. Any size by default: every true panel region holds sign points (pairs on
   // the torso and every limb), and a region without one is the biharmonic's extrapolation (a
@@ -85,6 +103,8 @@ struct SeamLine {
   int anchors = 0, droppedAnchors = 0;  // projected / ill-projected spline anchors
   int signs = 0, droppedSigns = 0;      // of which dropped by the tests or with their pair
   int pairedDrops = 0;                  // sign points dropped only because their partner was
+  int trunkPoints = 0, sleevePoints = 0;  // the armhole's body-part constraints (+1 / −1)
+  int unmatchedPoints = 0;  // garment samples with no body vertex of an agreeing normal near
   std::vector<std::string> splinesKept, splinesRemoved;
   // Where the zero constraints lie on the garment (spline samples, or the anchors for the
   // armhole), #P×3: the seam's prior position.
@@ -97,11 +117,14 @@ struct SeamLine {
 
 // The seams of one garment (mesh in the body's frame, consistently oriented), in the order they
 // are applied: FrontBack, Armhole, LeftRight (those that do not apply to the kind are absent).
-// body: the posed fully fitted body carrying `features`. Throws InputError for an empty garment
-// or a body that does not overlap it.
+// body: the posed fully fitted body carrying `features`; bodyLimbWeight: #V of body × 6, its
+// vertices' skinning weights per Limb (limbWeights), or empty: no body-part constraints on the
+// armhole function. Throws InputError for an empty garment, a body that does not overlap it, or
+// a bodyLimbWeight of the wrong shape.
 std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
                                     const FeatureSet& features,
                                     const std::vector<Opening>& openings,
-                                    const SeamOptions& options = {});
+                                    const SeamOptions& options = {},
+                                    const Eigen::MatrixXd& bodyLimbWeight = Eigen::MatrixXd());
 
 }  // namespace s2p
