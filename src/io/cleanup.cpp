@@ -267,7 +267,8 @@ CleanupReport cleanScan(Scan& scan, const CleanupOptions& options) {
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) F(f, k) = newIndex[F(f, k)];
 
-  // === Non-manifold vertices: one copy per fan of faces connected through edges at v.
+  // === Non-manifold vertices and edges: one copy per fan of faces connected through manifold
+  // edges at v.
   {
     std::vector<int> start(nv + 1, 0);
     for (Eigen::Index f = 0; f < F.rows(); ++f)
@@ -296,9 +297,18 @@ CleanupReport cleanScan(Scan& scan, const CleanupOptions& options) {
           if (F(f, k) != v) neighbourFace.emplace_back(F(f, k), i);
       }
       std::sort(neighbourFace.begin(), neighbourFace.end());
-      for (std::size_t j = 1; j < neighbourFace.size(); ++j)
-        if (neighbourFace[j].first == neighbourFace[j - 1].first)
-          parent[find(neighbourFace[j].second)] = find(neighbourFace[j - 1].second);
+      // Faces join only across a manifold edge (v, u) with exactly two faces: the faces of an
+      // edge with more (a fin, two sheets touching along an edge) each keep their own fan, so
+      // the edge comes apart as the fans get their own copies of v and u.
+      for (std::size_t j = 0; j < neighbourFace.size();) {
+        std::size_t e = j;
+        while (e < neighbourFace.size() && neighbourFace[e].first == neighbourFace[j].first) ++e;
+        if (e - j == 2)
+          parent[find(neighbourFace[j + 1].second)] = find(neighbourFace[j].second);
+        else if (e - j > 2 && v < neighbourFace[j].first)
+          ++report.splitNonManifoldEdges;
+        j = e;
+      }
       // Fan of the first face keeps v; every other fan gets a new copy.
       fanVertex.assign(n, -1);
       const int root0 = find(0);

@@ -1,6 +1,6 @@
 // Clean-up of a freshly read scan (paper §3 preprocessing): weld coincident vertices, drop
-// degenerate and duplicate faces and unreferenced vertices, split non-manifold vertices, and
-// report what remains wrong (non-manifold edges, components, holes).
+// degenerate and duplicate faces and unreferenced vertices, split non-manifold vertices and
+// edges, and report what remains wrong (components, holes).
 #pragma once
 
 #include <string>
@@ -20,7 +20,9 @@ struct CleanupReport {
   int duplicateFaces = 0;            // same vertex set as an earlier face, removed
   int unreferencedVertices = 0;      // removed
   int splitNonManifoldVertices = 0;  // vertices whose faces formed > 1 fan (one copy per fan)
-  int nonManifoldEdges = 0;          // edges with > 2 faces left (reported, not repaired)
+  int splitNonManifoldEdges = 0;     // edges with > 2 faces, split apart (fans join only across
+                                     // edges with two faces: a fin comes off as a piece)
+  int nonManifoldEdges = 0;          // edges with > 2 faces left (none after the split)
   int components = 0;                // connected components of faces
   int boundaryLoops = 0;             // holes (a closed scan has none)
   double largestHolePerimeter = 0;   // in the scan's units

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <set>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -212,31 +213,34 @@ PersonPieces findPersonPieces(const TriMesh& mesh, const PersonPiecesOptions& op
       personBox.min = personBox.min.cwiseMin(out.pieces[c].box.min);
       personBox.max = personBox.max.cwiseMax(out.pieces[c].box.max);
     }
-  // Horizontal (x, z) boxes of the person's vertices in the bottom and top bands, grown by 2 cm.
-  Eigen::Vector4d foot(1e300, 1e300, -1e300, -1e300), head(1e300, 1e300, -1e300, -1e300);
+  // The person's footprint at each end: the (x, z) cells of 2 cm holding a vertex of the person
+  // in the bottom (top) band. A face is inside it when a cell within 2 cm of it is occupied, so a
+  // sole scanned apart (right under the shoe) is inside and the floor between and around the
+  // feet is not (the box of both feet would hold the floor between them).
+  constexpr double kFootprintMargin = 0.02;  // m, also the cell size
+  std::set<std::pair<std::int64_t, std::int64_t>> foot, head;
+  auto cellOf = [&](double x, double z) {
+    return std::pair{static_cast<std::int64_t>(std::floor(x / kFootprintMargin)),
+                     static_cast<std::int64_t>(std::floor(z / kFootprintMargin))};
+  };
   for (int v = 0; v < mesh.numVertices(); ++v) {
     const int c = vertexPiece[v];
     if (c < 0 || !person[c]) continue;
-    const double x = mesh.V(v, 0), y = mesh.V(v, 1), z = mesh.V(v, 2);
-    for (auto [box, in] : {std::pair{&foot, y <= personBox.min.y() + band},
-                           std::pair{&head, y >= personBox.max.y() - band}})
-      if (in) {
-        (*box)[0] = std::min((*box)[0], x);
-        (*box)[1] = std::min((*box)[1], z);
-        (*box)[2] = std::max((*box)[2], x);
-        (*box)[3] = std::max((*box)[3], z);
-      }
+    const double y = mesh.V(v, 1);
+    if (y <= personBox.min.y() + band) foot.insert(cellOf(mesh.V(v, 0), mesh.V(v, 2)));
+    if (y >= personBox.max.y() - band) head.insert(cellOf(mesh.V(v, 0), mesh.V(v, 2)));
   }
-  constexpr double kFootprintMargin = 0.02;  // m
   std::vector<double> outside(np, 0.0);  // area of the piece's faces outside the end footprint
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const int c = faceComponent[f];
     if (!floorCandidate[c]) continue;
     const Vec3 m = (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2)))
                        .transpose() / 3.0;
-    const Eigen::Vector4d& fp = m.y() < 0.5 * (personBox.min.y() + personBox.max.y()) ? foot : head;
-    const bool in = m.x() >= fp[0] - kFootprintMargin && m.x() <= fp[2] + kFootprintMargin &&
-                    m.z() >= fp[1] - kFootprintMargin && m.z() <= fp[3] + kFootprintMargin;
+    const auto& fp = m.y() < 0.5 * (personBox.min.y() + personBox.max.y()) ? foot : head;
+    const auto [cx, cz] = cellOf(m.x(), m.z());
+    bool in = false;
+    for (std::int64_t dx = -1; dx <= 1 && !in; ++dx)
+      for (std::int64_t dz = -1; dz <= 1 && !in; ++dz) in = fp.count({cx + dx, cz + dz}) > 0;
     if (!in) outside[c] += area[f];
   }
   for (int c = 0; c < np; ++c) {

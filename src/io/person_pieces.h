@@ -35,7 +35,9 @@ struct PersonPiecesOptions {
   // Flat: the extent along the piece's thinnest principal axis is below max(this (m), 4 % of
   // its longest extent); floor: flat, its normal within 25° of the vertical, lying within
   // floorBandFraction of the height of the person's lowest (or highest) point, with at least
-  // half of its area outside the person's footprint (so a shoe's sole scanned apart stays).
+  // half of its area outside the person's footprint (so a shoe's sole scanned apart stays); the
+  // footprint is the set of 2 cm (x, z) cells holding a vertex of the person in that band, grown
+  // by one cell (not their bounding box, which holds the floor between the feet).
   double floorThickness = 0.03;
   double floorBandFraction = 0.05;
   // Two people: a piece out of reach with at least this fraction of the largest piece's area

@@ -802,7 +802,11 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
   for (size_t g = 0; g < garments.size(); ++g) {
     const size_t panelsBefore = result.panels.size();
     try {
-      GarmentPanelizer(input, garments[g], static_cast<int>(g), frame, options, result).run();
+      // Panels index result.garments (placement, the pattern files), which holds only the
+      // garments that made a pattern: a failed garment before this one shifts the index.
+      GarmentPanelizer(input, garments[g], static_cast<int>(result.garments.size()), frame,
+                       options, result)
+          .run();
     } catch (const Error& e) {
       result.panels.resize(panelsBefore);  // drop what the failed garment had added
       result.warnings.push_back(

@@ -191,6 +191,67 @@ std::vector<Preset> buildCatalogue() {
     p.options.geometry.holes = 4;
     c.push_back(p);
   }
+  // The realistic family (issue 17): the synthetic scans degraded as real scans are
+  // (synth/raw_scan.h). bench/suite_realistic.json lists them; bench/suite.json does not.
+  {
+    // A photogrammetry phone app's export: a relaxed stance (arms against the thighs, head
+    // bowed), σ 1 mm noise, holes where no camera looked (armpits, crotch, soles, crown, r 3 cm)
+    // and 30 small ones (r 7-17 mm), 3 floor remnants 25 cm wide 6 mm under the soles, the
+    // faces in 40 texture charts with their border vertices split, coordinates rounded to 1 mm.
+    Preset p = make("phone_scan",
+                    "raw phone scan: relaxed pose (arms against the thighs, head bowed), "
+                    "split at 40 texture charts, 3 floor patches, 36 holes, 1 mm grid, σ 1 mm",
+                    40000, SynthPose::Relaxed,
+                    {garment(G::TShirt, kTeal), garment(G::Trousers, kDenim), shoes()}, 0.45);
+    p.options.geometry.noise = 0.001;
+    p.options.geometry.holes = 6;
+    p.options.geometry.holeRadius = 0.03;
+    p.options.raw.smallHoles = 30;
+    p.options.raw.smallHoleRadius = 0.012;
+    p.options.raw.floorPatches = 3;
+    p.options.raw.floorPatchSize = 0.25;
+    p.options.raw.floorGap = 0.006;
+    p.options.raw.textureCharts = 40;
+    p.options.raw.quantisation = 0.001;
+    c.push_back(p);
+  }
+  {
+    // A camera rig that cannot see the thighs under a knee-length skirt: the cap under the hem
+    // and the legs' skin up to 4 cm below the hem are missing, so the legs are pieces of their
+    // own; 6 holes (r 7-17 mm) within 3 cm of the hem.
+    Preset p = make("skirt_legs_piece",
+                    "long-sleeve top and knee-length skirt; legs below the hem a separate piece "
+                    "(thighs unseen), 6 holes at the hem",
+                    30000, SynthPose::APose,
+                    {garment(G::LongSleeveShirt, kGreen), garment(G::KneeSkirt, kKhaki), shoes()},
+                    0.2);
+    p.options.geometry.noise = 0.0005;
+    p.options.raw.unseenUnderHem = true;
+    p.options.raw.unseenBelowHem = 0.04;
+    p.options.raw.hemHoles = 6;
+    p.options.raw.smallHoleRadius = 0.012;
+    c.push_back(p);
+  }
+  {
+    // What an image-to-3D tool exports (issue 17's GLB): a striped jersey and shorts, the boots
+    // as two pieces of their own (3 pieces), 20 non-manifold edges (6 mm fins), 33 holes (6
+    // where no camera looks, r 3 cm, and 27 small ones, r 6-14 mm), σ 1 mm noise.
+    Preset p = make("glb_footballer",
+                    "image-to-3D footballer: striped jersey, shorts, boots apart (3 pieces), 20 "
+                    "non-manifold edges, 33 holes",
+                    30000, SynthPose::ArmsDown,
+                    {garment(G::TShirt, kRed, P::Stripes, kWhite, 0.10),
+                     garment(G::Shorts, kWhite), shoes()},
+                    0.6);
+    p.options.geometry.noise = 0.001;
+    p.options.geometry.holes = 6;
+    p.options.geometry.holeRadius = 0.03;
+    p.options.raw.smallHoles = 27;
+    p.options.raw.smallHoleRadius = 0.01;
+    p.options.raw.detachShoes = true;
+    p.options.raw.fins = 20;
+    c.push_back(p);
+  }
   return c;
 }
 

@@ -23,12 +23,13 @@ using nlohmann::json;
 namespace s2p {
 namespace {
 
-constexpr std::array<std::pair<SynthPose, const char*>, 5> kPoseNames = {{
+constexpr std::array<std::pair<SynthPose, const char*>, 6> kPoseNames = {{
     {SynthPose::APose, "apose"},
     {SynthPose::TPose, "tpose"},
     {SynthPose::ArmsDown, "arms_down"},
     {SynthPose::Walking, "walking"},
     {SynthPose::BentArm, "bent_arm"},
+    {SynthPose::Relaxed, "relaxed"},
 }};
 
 double deg(double d) {
@@ -127,6 +128,11 @@ BodyPose synthPose(const BodyModel& model, const Eigen::VectorXd& shape, SynthPo
                   Eigen::AngleAxisd(deg(90), axis).toRotationMatrix());  // forearm to the front
       return pose;
     }
+    case SynthPose::Relaxed: {
+      BodyPose pose = armsBelowHorizontal(model, shape, 86);
+      rotateJoint(model, shape, pose, Canonical::Neck, rotX(15));  // head bowed (top to +Z)
+      return pose;
+    }
   }
   return standardPose(model, shape, StandardPose::APose);
 }
@@ -163,6 +169,7 @@ json synthOptionsToJson(const SynthOptions& o) {
           {"shading", o.shading},
           {"key_light", o.keyLight},
           {"yaw_degrees", o.yawDegrees},
+          {"raw_scan", rawScanOptionsToJson(o.raw)},
           {"seed", o.seed}};
 }
 
@@ -177,7 +184,7 @@ SynthOptions synthOptionsFromJson(const json& j) {
     const auto p = parseSynthPose(pose);
     if (!p)
       throw InputError("synth options: unknown pose '" + pose +
-                       "' (apose, tpose, arms_down, walking, bent_arm)");
+                       "' (apose, tpose, arms_down, walking, bent_arm, relaxed)");
     o.pose = *p;
     if (j.contains("outfit")) {
       const json& oj = j.at("outfit");
@@ -216,6 +223,7 @@ SynthOptions synthOptionsFromJson(const json& j) {
     o.shading = j.value("shading", o.shading);
     o.keyLight = j.value("key_light", o.keyLight);
     o.yawDegrees = j.value("yaw_degrees", o.yawDegrees);
+    if (j.contains("raw_scan")) o.raw = rawScanOptionsFromJson(j.at("raw_scan"));
     o.seed = j.value("seed", o.seed);
   } catch (const json::exception& e) {
     throw InputError(std::string("synth options: an entry has the wrong type (") + e.what() + ")");
@@ -254,6 +262,7 @@ void validate(const SynthOptions& o) {
     throw InputError("synth: key light strength must be in [0, 0.8]");
   if (!o.outfit.skin.allFinite() || !o.outfit.hair.allFinite())
     throw InputError("synth: skin and hair colours must be finite sRGB");
+  validateRawScanOptions(o.raw);
 }
 
 }  // namespace
@@ -280,6 +289,15 @@ SynthScan synthesize(const BodyModel& model, const SynthOptions& options, Progre
   progress.begin("colours and truth");
   SynthScan out = assembleSynthScan(model, params, surface, options);
   progress.end();
+  if (options.raw.any()) {
+    progress.begin("raw-scan degradations");
+    const RawScanStats st = degradeScan(out, options.raw, subSeed(options.seed, 3));
+    progress.end();
+    progress.message(fmt::format(
+        "synth: raw scan: {} holes, {} faces unseen under the hem, {} floor faces, {} texture "
+        "charts ({} vertex copies)",
+        st.holes, st.unseenFaces, st.floorFaces, st.charts, st.duplicatedVertices));
+  }
   return out;
 }
 

@@ -20,6 +20,7 @@
 #include "synth/appearance.h"
 #include "synth/clothed_surface.h"
 #include "synth/outfit.h"
+#include "synth/raw_scan.h"
 #include "synth/truth.h"
 
 namespace s2p {
@@ -31,8 +32,11 @@ enum class SynthPose {
   ArmsDown,  // arms 70° below horizontal: down, yet clear of the torso
   Walking,   // mid-stride: left leg forward, right leg back with the knee bent, arms swinging
   BentArm,   // A-pose with the left elbow bent 90° forwards
+  Relaxed,   // standing relaxed: arms hanging 86° below horizontal, against the thighs (the
+             // level set fuses where they touch), head bowed 15° at the neck
 };
-const char* toString(SynthPose pose);  // "apose", "tpose", "arms_down", "walking", "bent_arm"
+// "apose", "tpose", "arms_down", "walking", "bent_arm", "relaxed"
+const char* toString(SynthPose pose);
 std::optional<SynthPose> parseSynthPose(std::string_view name);
 BodyPose synthPose(const BodyModel& model, const Eigen::VectorXd& shape, SynthPose pose);
 
@@ -49,6 +53,7 @@ struct SynthOptions {
   double shading = 0.06;    // ± multiplicative shading noise
   double keyLight = 0;      // baked key light strength (AppearanceOptions::keyLight), 0: none
   double yawDegrees = 0;    // scan and truth rotated about +Y (orientation tests)
+  RawScanOptions raw;       // raw-scan degradations after the colours (realistic family)
   std::uint64_t seed = 1;
 };
 

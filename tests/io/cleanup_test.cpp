@@ -141,7 +141,8 @@ TEST(CleanScan, SplitsNonManifoldVertexOfTouchingSpheres) {
 }
 
 TEST(CleanScan, ReportsNonManifoldEdgeAndHoles) {
-  // Three triangles on one edge (a "book"): 1 non-manifold edge; open cylinder: 2 holes.
+  // Three triangles on one edge (a "book"): the non-manifold edge is split, the pages come
+  // apart (3 pieces, no non-manifold edge left); open cylinder: 2 holes.
   TriMesh book;
   book.V.resize(5, 3);
   book.V << 0, 0, 0, 0, 1, 0, 1, 0, 0, -1, 0, 0, 0, 0, 1;
@@ -149,7 +150,24 @@ TEST(CleanScan, ReportsNonManifoldEdgeAndHoles) {
   book.F << 0, 1, 2, 1, 0, 3, 0, 1, 4;
   Scan scan;
   scan.mesh = book;
-  EXPECT_EQ(cleanScan(scan).nonManifoldEdges, 1);
+  const CleanupReport b = cleanScan(scan);
+  EXPECT_EQ(b.splitNonManifoldEdges, 1);
+  EXPECT_EQ(b.nonManifoldEdges, 0);
+  EXPECT_EQ(b.components, 3);
+  EXPECT_EQ(scan.mesh.numVertices(), 9);
+  // A fin standing on an edge of a closed surface comes off; the surface keeps that edge.
+  Scan fin;
+  fin.mesh = makeUvSphere(8, 12);
+  const int nv = fin.mesh.numVertices(), a = fin.mesh.F(0, 0), c = fin.mesh.F(0, 1);
+  fin.mesh.V.conservativeResize(nv + 1, 3);
+  fin.mesh.V.row(nv) = 0.5 * (fin.mesh.V.row(a) + fin.mesh.V.row(c)) * 1.2;
+  fin.mesh.F.conservativeResize(fin.mesh.numFaces() + 1, 3);
+  fin.mesh.F.row(fin.mesh.numFaces() - 1) << a, c, nv;
+  const CleanupReport r0 = cleanScan(fin);
+  EXPECT_EQ(r0.splitNonManifoldEdges, 1);
+  EXPECT_EQ(r0.nonManifoldEdges, 0);
+  EXPECT_EQ(r0.components, 2);
+  EXPECT_EQ(r0.boundaryLoops, 1);  // the fin's own rim; the sphere stays closed
 
   const int segments = 24;
   Scan cyl;

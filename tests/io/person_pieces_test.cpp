@@ -27,13 +27,17 @@ TriMesh sheet(double x, double y, double z, double side) {
 }
 // A stand-in person: a torso-and-skirt ellipsoid 0.6–1.75 m (the largest piece) and, as the
 // legs seen below a skirt, two leg ellipsoids 0–0.64 m, 2 cm below it.
-TriMesh body() { return ellipsoid({0, 1.175, 0}, {0.2, 0.575, 0.12}); }
+TriMesh body() {
+  return ellipsoid({0, 1.175, 0}, {0.2, 0.575, 0.12});
+}
 TriMesh legs() {
   return concat(ellipsoid({-0.09, 0.32, 0}, {0.06, 0.32, 0.06}),
                 ellipsoid({0.09, 0.32, 0}, {0.06, 0.32, 0.06}));
 }
 // A floor patch under the feet, 0.8 m wide (smaller than the body).
-TriMesh floorPatch() { return sheet(0, -0.005, 0, 0.8); }
+TriMesh floorPatch() {
+  return sheet(0, -0.005, 0, 0.8);
+}
 
 int countRole(const PersonPieces& p, PieceRole role) {
   int n = 0;
@@ -98,6 +102,17 @@ TEST(PersonPieces, SoleUnderTheFeetIsNotFloor) {
   const PersonPieces p = findPersonPieces(m);
   EXPECT_EQ(p.keptPieces, 4);
   EXPECT_EQ(p.floorPieces, 0);
+}
+
+// A floor remnant between the feet (a phone scan's floor seen between the legs) lies inside
+// the bounding box of the feet but under no foot: dropped as floor, not kept as a sole.
+TEST(PersonPieces, FloorBetweenTheFeetIsFloor) {
+  const TriMesh wideLegs = concat(ellipsoid({-0.15, 0.32, 0}, {0.06, 0.32, 0.06}),
+                                  ellipsoid({0.15, 0.32, 0}, {0.06, 0.32, 0.06}));
+  const PersonPieces p =
+      findPersonPieces(concat(concat(body(), wideLegs), sheet(0, -0.005, 0, 0.12)));
+  EXPECT_EQ(p.keptPieces, 3);
+  EXPECT_EQ(p.floorPieces, 1);
 }
 
 TEST(PersonPieces, LargestPieceFlatIsTheFloorError) {

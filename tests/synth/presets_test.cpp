@@ -57,7 +57,7 @@ TEST(Presets, CoverTheCataloguePosesAndHardCases) {
     shape |= !p.options.shape.empty();
   }
   EXPECT_EQ(types.size(), 12u);    // every garment type of the catalogue
-  EXPECT_EQ(poses.size(), 5u);     // A, T, arms down, walking, bent arm
+  EXPECT_EQ(poses.size(), 6u);     // A, T, arms down, walking, bent arm, relaxed
   EXPECT_EQ(patterns.size(), 5u);  // solid, stripes, checks, dots, noise
   EXPECT_TRUE(gap && noise && holes && shape && bareFeet);
   // Low contrast (case t): upper and lower within 10 ΔE*ab; close to skin: within 10 of it.
