@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <nanoflann.hpp>
 #include <numeric>
 #include <optional>
 #include <queue>
@@ -15,6 +14,7 @@
 
 #include "body/posing.h"
 #include "core/error.h"
+#include "core/row_tree.h"
 #include "fit/fit_energy.h"
 
 namespace s2p {
@@ -27,23 +27,6 @@ struct Graph {
   std::vector<int> start, nbr;
   std::vector<double> len;
 };
-
-// nanoflann view of some vertices of a mesh.
-struct VertexCloud {
-  const Eigen::MatrixX3d* V = nullptr;
-  std::vector<int> index;
-  size_t kdtree_get_point_count() const { return index.size(); }
-  double kdtree_get_pt(size_t i, size_t d) const {
-    return (*V)(index[i], static_cast<Eigen::Index>(d));
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using VertexTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, VertexCloud>,
-                                        VertexCloud, 3, std::uint32_t>;
 
 // A scan in pieces (legs seen apart below a skirt, a hand or feet scanned apart): each piece of
 // at least kMinBridgedVertices is joined to the nearest vertex of the larger pieces by one edge
@@ -68,10 +51,11 @@ void bridgePieces(const TriMesh& m, std::vector<std::pair<int, int>>& e) {
   std::sort(order.begin(), order.end(), [](auto* a, auto* b) {
     return a->size() != b->size() ? a->size() > b->size() : a->front() < b->front();
   });
-  VertexCloud cloud{&m.V, {}};
+  std::vector<int> joined;  // the vertices of the pieces joined so far
+  const RowCloud cloud{&m.V, &joined};
   for (size_t i = 0; i < order.size(); ++i) {
     if (i > 0) {
-      const VertexTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+      const RowTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
       double best = kInf;
       int from = -1, to = -1;
       for (int v : *order[i]) {
@@ -79,12 +63,12 @@ void bridgePieces(const TriMesh& m, std::vector<std::pair<int, int>>& e) {
         std::uint32_t j = 0;
         double d2 = 0;
         tree.knnSearch(q.data(), 1, &j, &d2);
-        if (d2 < best) best = d2, from = v, to = cloud.index[j];
+        if (d2 < best) best = d2, from = v, to = joined[j];
       }
       e.emplace_back(from, to);
       e.emplace_back(to, from);
     }
-    cloud.index.insert(cloud.index.end(), order[i]->begin(), order[i]->end());
+    joined.insert(joined.end(), order[i]->begin(), order[i]->end());
   }
 }
 

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <nanoflann.hpp>
 
 #include <array>
 #include <chrono>
@@ -14,11 +13,12 @@
 #include <unordered_map>
 #include <utility>
 
+#include "core/coarse_mesh.h"
 #include "core/error.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
+#include "core/row_tree.h"
 #include "segment/biharmonic.h"
-#include "core/coarse_mesh.h"
 #include "segment/surface_spline.h"
 
 namespace s2p {
@@ -96,22 +96,6 @@ void addOpeningConstraints(const MeshTopology& topo, const TriMesh& mesh, const 
   }
 }
 
-// nanoflann view of a mesh's vertices.
-struct VertexCloud {
-  const Eigen::MatrixX3d* V = nullptr;
-  size_t kdtree_get_point_count() const { return static_cast<size_t>(V->rows()); }
-  double kdtree_get_pt(size_t i, size_t d) const {
-    return (*V)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(d));
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using VertexTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, VertexCloud>,
-                                        VertexCloud, 3, std::uint32_t>;
-
 // Garment vertices about `spacing` apart (greedy in vertex order on a grid of that cell size),
 // none within `clearance` of a point of `avoid`.
 std::vector<int> spacedVertices(const TriMesh& mesh, double spacing, const std::vector<Vec3>& avoid,
@@ -155,8 +139,8 @@ void addBodyPartConstraints(const TriMesh& garment, const MeshTopology& topo, co
   if (samples.empty()) return;
   Eigen::MatrixX3d gn = vertexNormals(garment);
   const Eigen::MatrixX3d bn = vertexNormals(body);
-  const VertexCloud cloud{&body.V};
-  const VertexTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  const RowCloud cloud{&body.V};
+  const RowTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   // The garment's orientation against the body's (outward): the nearest body vertex's normal
   // agrees with most of a garment's normals when both face out.
   int agree = 0;

@@ -1,6 +1,5 @@
 #include "segment/biharmonic.h"
 
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include "core/error.h"
 #include "core/laplacian.h"
 #include "core/mesh_topology.h"
+#include "core/row_tree.h"
 #include "core/spd_solver.h"
 
 namespace s2p {
@@ -18,22 +18,6 @@ namespace s2p {
 using Sparse = Eigen::SparseMatrix<double>;
 
 namespace {
-
-// nanoflann view of the vertices of the constrained pieces.
-struct PointCloud {
-  const Eigen::MatrixX3d* V = nullptr;
-  const std::vector<int>* index = nullptr;
-  size_t kdtree_get_point_count() const { return index->size(); }
-  double kdtree_get_pt(size_t i, size_t d) const {
-    return (*V)((*index)[i], static_cast<Eigen::Index>(d));
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
-                                                   PointCloud, 3, std::uint32_t>;
 
 // The rows and columns of A whose flag is set (A restricted to some pieces: block diagonal, so
 // the restriction is the pieces' own system).
@@ -189,8 +173,8 @@ Eigen::VectorXd Biharmonic::solve(const std::vector<ValueConstraint>& constraint
     }
   d.stats.unconstrainedPieces = 0;
   for (char c : constrained) d.stats.unconstrainedPieces += !c;
-  const PointCloud cloud{&m.V, &solved};
-  const KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  const RowCloud cloud{&m.V, &solved};
+  const RowTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   std::vector<double> best(d.numPieces, std::numeric_limits<double>::infinity());
   std::vector<double> value(d.numPieces, 0.0);
   for (int vtx = 0; vtx < nV; ++vtx) {

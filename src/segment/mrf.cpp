@@ -5,13 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <nanoflann.hpp>
 #include <set>
 #include <string>
 
 #include "core/error.h"
 #include "core/laplacian.h"
 #include "core/mesh_topology.h"
+#include "core/row_tree.h"
 
 namespace s2p {
 
@@ -19,25 +19,10 @@ namespace {
 
 using Graph = maxflow::Graph<double, double, double>;
 
-// nanoflann view of a point set (#N×3).
-struct PointCloud {
-  Eigen::MatrixX3d P;
-  size_t kdtree_get_point_count() const { return static_cast<size_t>(P.rows()); }
-  double kdtree_get_pt(size_t i, size_t d) const {
-    return P(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(d));
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
-                                                   PointCloud, 3, std::uint32_t>;
-
 // Squared Euclidean distance from every vertex to the nearest of `points` (#V).
 Eigen::VectorXd nearestSquaredDistance(const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& points) {
-  PointCloud cloud{points};
-  KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  const RowCloud cloud{&points};
+  const RowTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   Eigen::VectorXd d2(V.rows());
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     const Eigen::Vector3d q = V.row(v).transpose();
