@@ -43,7 +43,7 @@ BodyFrame::BodyFrame(const Eigen::MatrixX3d& canonical) : canonical_(canonical) 
 
 LimbPlace BodyFrame::placeOn(Limb limb, const Eigen::Vector3d& p) const {
   using C = Canonical;
-  std::array<C, 3> chain;
+  std::array<C, 3> chain{};  // every Limb sets it below
   int n = 3;
   switch (limb) {
     case Limb::Torso: chain = {C::Pelvis, C::Neck, C::Neck}; n = 2; break;

@@ -432,7 +432,7 @@ TEST(Stitches, TwoRectanglesOfATubeAreSewnVertexToVertexWhereTheyMet) {
 }
 
 TEST(GarmentCode, EulerAnglesAreGarmentCodesRzRyRx) {
-  for (const Eigen::Vector3d deg :
+  for (const Eigen::Vector3d& deg :
        {Eigen::Vector3d(10, -20, 30), Eigen::Vector3d(0, 180, 0), Eigen::Vector3d(-75, 40, 160)}) {
     const Eigen::Vector3d r = deg * M_PI / 180;
     const Eigen::Matrix3d R = (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) *
