@@ -2,6 +2,9 @@
 
 #include <openvdb/tools/VolumeToMesh.h>
 
+#include <Eigen/Geometry>
+
+#include <cmath>
 #include <vector>
 
 namespace s2p {
@@ -30,6 +33,32 @@ TriMesh levelSetToMesh(const openvdb::FloatGrid& grid, double isoValue) {
     }
   }
   return mesh;
+}
+
+TriMesh meshImplicit(const std::function<double(const Eigen::Vector3d&)>& f,
+                     const Eigen::Vector3d& lo, const Eigen::Vector3d& size, double voxel) {
+  openvdb::initialize();
+  const Eigen::Vector3i n = (size / voxel).array().ceil().cast<int>();
+  const float band = static_cast<float>(3 * voxel);
+  auto grid = openvdb::FloatGrid::create(band);
+  auto acc = grid->getAccessor();
+  for (int k = 0; k <= n.z(); ++k)
+    for (int j = 0; j <= n.y(); ++j)
+      for (int i = 0; i <= n.x(); ++i) {
+        const double v = f(lo + voxel * Eigen::Vector3d(i, j, k));
+        if (std::abs(v) < band)
+          acc.setValueOn(openvdb::Coord(i, j, k), static_cast<float>(v));
+        else if (v < 0)
+          acc.setValueOff(openvdb::Coord(i, j, k), -band);
+      }
+  TriMesh m = levelSetToMesh(*grid);  // index space (identity transform) mapped to the box
+  m.V = ((voxel * m.V).rowwise() + lo.transpose()).eval();
+  double volume = 0;
+  for (int i = 0; i < m.numFaces(); ++i)
+    volume += m.V.row(m.F(i, 0)).dot(
+        Eigen::Vector3d(m.V.row(m.F(i, 1))).cross(Eigen::Vector3d(m.V.row(m.F(i, 2)))));
+  if (volume < 0) m.F.col(1).swap(m.F.col(2));
+  return m;
 }
 
 }  // namespace s2p

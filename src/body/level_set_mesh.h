@@ -5,10 +5,18 @@
 
 #include <openvdb/openvdb.h>
 
+#include <functional>
+
 #include "core/tri_mesh.h"
 
 namespace s2p {
 
 TriMesh levelSetToMesh(const openvdb::FloatGrid& grid, double isoValue = 0.0);
+
+// The zero set of f (negative inside, a distance near the surface) sampled every `voxel` metres
+// on the box from lo to lo + size, meshed and oriented outward (positive enclosed volume). For
+// test shapes and other small implicit solids (the mannequin samples its own in parallel).
+TriMesh meshImplicit(const std::function<double(const Eigen::Vector3d&)>& f,
+                     const Eigen::Vector3d& lo, const Eigen::Vector3d& size, double voxel);
 
 }  // namespace s2p

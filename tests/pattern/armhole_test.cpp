@@ -7,7 +7,6 @@
 // answer: the shirt over the trunk stays trunk (φ > 0); with sleeve points, the shirt over the
 // arm stays sleeve (φ < 0).
 #include <gtest/gtest.h>
-#include <openvdb/openvdb.h>
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
@@ -51,29 +50,7 @@ struct ArmDownScene {
 
   // The zero set of f (negative inside) on a grid of `voxel`, outward oriented.
   static TriMesh mesh(const std::function<double(const Vec3&)>& f, double voxel) {
-    openvdb::initialize();
-    const Vec3 lo(-0.25, -0.25, -0.22);
-    const Eigen::Vector3i n = (Vec3(0.8, 0.9, 0.44) / voxel).array().ceil().cast<int>();
-    const float band = static_cast<float>(3 * voxel);
-    auto grid = openvdb::FloatGrid::create(band);
-    auto acc = grid->getAccessor();
-    for (int k = 0; k <= n.z(); ++k)
-      for (int j = 0; j <= n.y(); ++j)
-        for (int i = 0; i <= n.x(); ++i) {
-          const double v = f(lo + voxel * Vec3(i, j, k));
-          if (std::abs(v) < band)
-            acc.setValueOn(openvdb::Coord(i, j, k), static_cast<float>(v));
-          else if (v < 0)
-            acc.setValueOff(openvdb::Coord(i, j, k), -band);
-        }
-    TriMesh m = levelSetToMesh(*grid);
-    m.V = ((voxel * m.V).rowwise() + lo.transpose()).eval();
-    double volume = 0;
-    for (int i = 0; i < m.numFaces(); ++i)
-      volume += m.V.row(m.F(i, 0)).dot(
-          Vec3(m.V.row(m.F(i, 1))).cross(Vec3(m.V.row(m.F(i, 2)))));
-    if (volume < 0) m.F.col(1).swap(m.F.col(2));
-    return m;
+    return meshImplicit(f, Vec3(-0.25, -0.25, -0.22), Vec3(0.8, 0.9, 0.44), voxel);
   }
 
   // The body and a shirt 15 mm over it: neckline at y = 0.5, hem at y = −0.1, cuff 25 cm down

@@ -2,9 +2,6 @@
 
 #include "body/level_set_mesh.h"
 
-#include <openvdb/openvdb.h>
-#include <openvdb/tools/VolumeToMesh.h>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -35,29 +32,8 @@ double trousers(const Eigen::Vector3d& p) {
 }  // namespace
 
 TriMesh makeTrousers(double voxel) {
-  openvdb::initialize();
-  const Eigen::Vector3d lo(-0.2, -0.06, -0.2);
-  const Eigen::Vector3i n = (Eigen::Vector3d(0.4, 1.26, 0.4) / voxel).array().ceil().cast<int>();
-  const float band = static_cast<float>(3 * voxel);
-  auto grid = openvdb::FloatGrid::create(band);
-  auto acc = grid->getAccessor();
-  for (int k = 0; k <= n.z(); ++k)
-    for (int j = 0; j <= n.y(); ++j)
-      for (int i = 0; i <= n.x(); ++i) {
-        const double f = trousers(lo + voxel * Eigen::Vector3d(i, j, k));
-        if (std::abs(f) < band)
-          acc.setValueOn(openvdb::Coord(i, j, k), static_cast<float>(f));
-        else if (f < 0)
-          acc.setValueOff(openvdb::Coord(i, j, k), -band);
-      }
-  TriMesh m = levelSetToMesh(*grid);  // index space (identity transform) mapped to the box
-  m.V = ((voxel * m.V).rowwise() + lo.transpose()).eval();
-  double volume = 0;  // outward orientation: positive enclosed volume
-  for (int i = 0; i < m.numFaces(); ++i)
-    volume += m.V.row(m.F(i, 0)).dot(
-        Eigen::Vector3d(m.V.row(m.F(i, 1))).cross(Eigen::Vector3d(m.V.row(m.F(i, 2)))));
-  if (volume < 0) m.F.col(1).swap(m.F.col(2));
-  return m;
+  return meshImplicit(trousers, Eigen::Vector3d(-0.2, -0.06, -0.2),
+                      Eigen::Vector3d(0.4, 1.26, 0.4), voxel);
 }
 
 }  // namespace s2p::testing
