@@ -350,4 +350,47 @@ int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
   return flipped;
 }
 
+std::vector<PieceSide> sidePiecesByVotes(const TriMesh& mesh, Eigen::VectorXd& phi,
+                                         const std::vector<SurfacePoint>& anchors,
+                                         const std::vector<SideVote>& votes, int minVotes,
+                                         double minShare) {
+  if (phi.size() != mesh.numVertices())
+    throw InputError("sidePiecesByVotes: φ has " + std::to_string(phi.size()) + " values for " +
+                     std::to_string(mesh.numVertices()) + " vertices");
+  const MeshTopology topo(mesh.F, mesh.numVertices());
+  const Eigen::VectorXi& pieceOf = topo.faceComponent();
+  const int n = topo.numComponents();
+  std::vector<char> anchored(n, 0), positive(n, 0), negative(n, 0);
+  std::vector<int> vertices(n, 0), plus(n, 0), minus(n, 0);
+  for (const SurfacePoint& a : anchors) anchored[pieceOf[a.face]] = 1;
+  for (const SideVote& v : votes) (v.side > 0 ? plus : minus)[pieceOf[v.point.face]]++;
+  std::vector<int> vertexPiece(mesh.numVertices(), -1);
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int k = 0; k < 3; ++k) vertexPiece[mesh.F(f, k)] = pieceOf[f];
+  for (int v = 0; v < mesh.numVertices(); ++v) {
+    const int p = vertexPiece[v];
+    if (p < 0) continue;
+    ++vertices[p];
+    (phi[v] < 0 ? negative : positive)[p] = 1;
+  }
+  std::vector<PieceSide> out;
+  std::vector<char> flip(n, 0);
+  for (int p = 0; p < n; ++p) {
+    if (anchored[p] || (positive[p] && negative[p])) continue;
+    PieceSide s{p, vertices[p], plus[p], minus[p], false};
+    const int total = plus[p] + minus[p];
+    if (total >= minVotes) {
+      const bool wantPositive = plus[p] >= minShare * total;
+      const bool wantNegative = minus[p] >= minShare * total;
+      s.flipped = (wantPositive && negative[p]) || (wantNegative && positive[p]);
+    }
+    flip[p] = s.flipped;
+    out.push_back(s);
+  }
+  for (int v = 0; v < mesh.numVertices(); ++v)
+    if (vertexPiece[v] >= 0 && flip[vertexPiece[v]])
+      phi[v] = phi[v] < 0 ? std::max(-phi[v], 1e-9) : std::min(-phi[v], -1e-9);
+  return out;
+}
+
 }  // namespace s2p

@@ -136,6 +136,33 @@ Eigen::VectorXd regionSigns(const TriMesh& mesh, const MeshTopology& topology,
 int removeIslands(const TriMesh& mesh, Eigen::VectorXd& phi, double minArea,
                   const std::vector<ValueConstraint>& signs);
 
+// A labelled region point (the body's face, hands, chest, hips, feet: RegionPoint) located on
+// the mesh, with the side of a boundary its label belongs on (+1 or −1).
+struct SideVote {
+  SurfacePoint point;
+  double side = 1;
+};
+
+// What sidePiecesByVotes found on one piece that no curve crosses.
+struct PieceSide {
+  int piece = 0;       // connected component of the mesh
+  int vertices = 0;
+  int positiveVotes = 0, negativeVotes = 0;
+  bool flipped = false;  // its side changed
+};
+
+// A connected piece of the mesh that holds none of the boundary's zero constraints (`anchors`: no
+// spline lies on it) and that φ's zero isoline does not cross lies wholly on one side, and which
+// one is decided by nothing but the balance of the displacement over it: a knife edge when the
+// two sides' colours are alike (a beige knee skirt whose legs are a piece of their own: 2 mm of
+// fit round-off once sent it to the skin side). Such a piece takes the side the labelled region
+// points on it vote for, when at least `minVotes` lie on it and a share of at least `minShare`
+// agree; φ there changes sign (magnitude kept). Returns one record per such piece.
+std::vector<PieceSide> sidePiecesByVotes(const TriMesh& mesh, Eigen::VectorXd& phi,
+                                         const std::vector<SurfacePoint>& anchors,
+                                         const std::vector<SideVote>& votes, int minVotes = 4,
+                                         double minShare = 0.75);
+
 // One-shot version.
 BoundaryResult optimizeBoundary(const TriMesh& mesh,
                                 const std::vector<std::vector<SurfacePoint>>& splines,

@@ -522,6 +522,7 @@ class Segmenter {
     out.regionPoints = regionPoints_;
     out.droppedRegionPoints = droppedRegionPoints_;
     for (const std::string& n : skipNotes_) out.notes.push_back(n);
+    for (const std::string& n : pieceNotes_) out.notes.push_back(n);
     for (const std::string& n : geometryNotes_) out.notes.push_back(n);
     for (const BoundaryReport& b : out.boundaries)
       if (!b.converged)
@@ -543,6 +544,8 @@ class Segmenter {
         projectRegionPoints(projector, features, regionPoints_, droppedRegionPoints_);
     hasFootRegion_ = regions[kFoot].size() >= 4;
     upperPoints_ = regions[kUpper];
+    for (int r = 0; r < 4; ++r)
+      for (const SurfacePoint& p : regions[r]) regionPositions_[r].push_back(p.position(scan_));
     for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
@@ -863,10 +866,44 @@ class Segmenter {
     }
     run.report.coarseSeconds = coarseSeconds;
     run.report.optimisedVertices = coarse ? coarse->mesh.numVertices() : stage.mesh.numVertices();
+    if (!run.report.skipped) settleUncutPieces(stage, job, run);
     CutResult cut = cutAlongIsoline(stage.mesh, awayFromZero(run.result.phi, stage.mesh));
     run.report.seconds = secondsSince(t0);
     progress_.end();
     return {std::move(run), std::move(cut)};
+  }
+
+  // Pieces of the stage that no curve crosses and no feature of the boundary lies on (a skirt
+  // whose legs are a piece of their own: the ankle splines are on the legs) take the side their
+  // labelled region points vote for (sidePiecesByVotes), not the side the balance of the
+  // displacement happened to leave them on.
+  void settleUncutPieces(const Stage& stage, const BoundaryJob& job, BoundaryRun& run) {
+    const Eigen::VectorXd& phi = run.result.phi;
+    const MeshTopology topo(stage.mesh.F, stage.mesh.numVertices());
+    if (topo.numComponents() < 2) {
+      if ((phi.array() < 0).any() && (phi.array() >= 0).any()) return;
+    }
+    const MeshQuery query(stage.mesh);
+    std::vector<Vec3> features;
+    for (const Eigen::MatrixX3d& s : job.curve->splines)
+      for (int i = 0; i < s.rows(); ++i) features.push_back(s.row(i).transpose());
+    for (const Anchor& a : job.curve->signs) features.push_back(a.position);
+    const std::vector<SurfacePoint> anchors = locate(query, features, tolerance_);
+    std::vector<SideVote> votes;
+    for (size_t i = 0; i < job.regions.size(); ++i)
+      for (const SurfacePoint& p : locate(query, regionPositions_[job.regions[i]], tolerance_))
+        votes.push_back({p, job.positive[i] ? 1.0 : -1.0});
+    for (const PieceSide& p : sidePiecesByVotes(stage.mesh, run.result.phi, anchors, votes)) {
+      if (!p.flipped) continue;
+      const bool toPositive = p.positiveVotes > p.negativeVotes;
+      pieceNotes_.push_back(fmt::format(
+          "boundary {}: a piece of {} vertices that no curve crosses and no feature of the "
+          "boundary lies on goes to the {} side, as {} of the {} labelled region points on it say "
+          "(the displacement alone left it on the {} side)",
+          job.curve->name, p.vertices, toPositive ? toString(job.other) : toString(job.garment),
+          toPositive ? p.positiveVotes : p.negativeVotes, p.positiveVotes + p.negativeVotes,
+          toPositive ? toString(job.garment) : toString(job.other)));
+    }
   }
 
   // The part of the scan `stage` restricted to the vertices of its decimated copy.
@@ -1228,11 +1265,13 @@ class Segmenter {
   bool tentativeNoUpper_ = false;
   std::vector<SurfacePoint> upperPoints_;  // projected upper region points (chest and back)
   std::vector<Vec3> footPoints_;  // projected foot region points
+  std::vector<Vec3> regionPositions_[4];  // projected region points by kSkin..kFoot, on the scan
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;
   std::unique_ptr<MeshQuery> bodyQuery_;
   std::vector<std::string> projectionNotes_;  // fallbacks of the feature projection
   std::vector<std::string> skipNotes_;        // boundaries skipped (optimiseAndCut)
+  std::vector<std::string> pieceNotes_;  // pieces sent to the side their region points say
   std::vector<std::string> geometryNotes_;    // boundaries the geometric cues joined
 };
 

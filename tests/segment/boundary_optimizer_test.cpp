@@ -294,3 +294,80 @@ TEST(BoundaryOptimizer, NestedIslandsEndOnTheSideOfTheRegionAroundThem) {
 
 }  // namespace
 }  // namespace s2p
+
+namespace s2p {
+namespace {
+
+// Five spheres in a row, one piece each (a scan in pieces: a skirt whose legs are a piece of their
+// own). φ is positive on all but the first, which the curve crosses.
+struct FivePieces {
+  TriMesh mesh;
+  std::vector<int> firstVertex;  // of each piece, and the end
+};
+
+FivePieces fivePieces() {
+  const TriMesh s = makeIcosphere(2, 0.1);
+  FivePieces p;
+  p.mesh.V.resize(5 * s.numVertices(), 3);
+  p.mesh.F.resize(5 * s.numFaces(), 3);
+  for (int i = 0; i < 5; ++i) {
+    p.firstVertex.push_back(i * s.numVertices());
+    p.mesh.V.middleRows(i * s.numVertices(), s.numVertices()) =
+        s.V.rowwise() + Eigen::RowVector3d(0.5 * i, 0, 0);
+    p.mesh.F.middleRows(i * s.numFaces(), s.numFaces()) =
+        s.F.array() + i * s.numVertices();
+  }
+  p.firstVertex.push_back(p.mesh.numVertices());
+  return p;
+}
+
+// A piece that no curve crosses and no feature holds takes the side its region points vote for;
+// too few votes, split votes, or a feature on the piece leave φ's side.
+TEST(BoundaryOptimizer, UncutPieceWithoutFeaturesTakesTheSideOfItsRegionPoints) {
+  const FivePieces p = fivePieces();
+  const TriMesh& m = p.mesh;
+  const MeshQuery q(m);
+  Eigen::VectorXd phi(m.numVertices());
+  for (int v = 0; v < m.numVertices(); ++v)
+    phi[v] = v < p.firstVertex[1] ? m.V(v, 1) : 0.01 + 0.001 * m.V(v, 1);  // piece 0: crossed
+  // Piece k's centre.
+  const auto at = [&](int k, double dy, double dz) {
+    return closest(q, Eigen::Vector3d(0.5 * k, dy, dz + 0.2));
+  };
+  std::vector<SideVote> votes;
+  for (int i = 0; i < 6; ++i) votes.push_back({at(0, 0.05, 0.01 * i), -1});  // crossed: ignored
+  for (int i = 0; i < 5; ++i) votes.push_back({at(1, 0, 0.01 * i), -1});     // 5 of 6 say −
+  votes.push_back({at(1, 0.05, 0), +1});
+  for (int i = 0; i < 3; ++i) votes.push_back({at(2, 0, 0.01 * i), -1});  // only 3: too few
+  for (int i = 0; i < 3; ++i) votes.push_back({at(3, 0, 0.01 * i), -1});  // 3 − against 3 +
+  for (int i = 0; i < 3; ++i) votes.push_back({at(3, 0.05, 0.01 * i), +1});
+  for (int i = 0; i < 5; ++i) votes.push_back({at(4, 0, 0.01 * i), -1});  // a feature lies on it
+  const std::vector<SurfacePoint> anchors = {at(0, 0, 0), at(4, 0.05, 0)};
+  const Eigen::VectorXd before = phi;
+  const std::vector<PieceSide> sides = sidePiecesByVotes(m, phi, anchors, votes);
+  ASSERT_EQ(sides.size(), 3u);  // pieces 1, 2, 3: 0 is crossed, 4 anchored
+  int flipped = 0;
+  for (const PieceSide& s : sides) flipped += s.flipped;
+  EXPECT_EQ(flipped, 1);
+  for (int k = 0; k < 5; ++k)
+    for (int v = p.firstVertex[k]; v < p.firstVertex[k + 1]; ++v) {
+      if (k == 1) {
+        ASSERT_LT(phi[v], 0) << "piece 1, vertex " << v;
+        EXPECT_DOUBLE_EQ(phi[v], -before[v]);
+      } else {
+        ASSERT_EQ(phi[v], before[v]) << "piece " << k << ", vertex " << v;
+      }
+    }
+  // The curve of piece 0 is still the only one.
+  const MeshTopology topo(m.F, m.numVertices());
+  EXPECT_EQ(extractIsoline(m, topo, phi).curves.size(), 1u);
+  // Votes already agreeing with φ change nothing.
+  for (SideVote& v : votes) v.side = -v.side;
+  phi = before;
+  for (const PieceSide& s : sidePiecesByVotes(m, phi, anchors, votes)) EXPECT_FALSE(s.flipped);
+  EXPECT_EQ(phi, before);
+  EXPECT_THROW(sidePiecesByVotes(m, phi = Eigen::VectorXd::Zero(3), anchors, votes), InputError);
+}
+
+}  // namespace
+}  // namespace s2p
