@@ -170,15 +170,71 @@ SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
 
-void SpdSolver::compute(const Eigen::SparseMatrix<double>& A) {
+void SpdSolver::compute(const Eigen::SparseMatrix<double>& A) { compute(A, 1); }
+
+namespace {
+
+// The lower-triangle pattern of the graph of b×b blocks of L (values 1: only the pattern is
+// analysed).
+LowerCsc blockPattern(const LowerCsc& L, int b) {
+  LowerCsc B;
+  B.n = L.n / b;
+  B.outer.assign(B.n + 1, 0);
+  std::vector<int> rows;
+  for (int C = 0; C < B.n; ++C) {
+    rows.clear();
+    for (int c = C * b; c < (C + 1) * b; ++c)
+      for (int k = L.outer[c]; k < L.outer[c + 1]; ++k) rows.push_back(L.inner[k] / b);
+    rows.push_back(C);  // the diagonal block, even when its entries are all implicit zeros
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    for (int R : rows)
+      if (R >= C) B.inner.push_back(R);
+    B.outer[C + 1] = static_cast<int>(B.inner.size());
+  }
+  B.values.assign(B.inner.size(), 1.0);
+  return B;
+}
+
+}  // namespace
+
+void SpdSolver::compute(const Eigen::SparseMatrix<double>& A, int blockSize) {
   if (!impl_) impl_ = std::make_unique<Impl>(Ordering::Auto);  // a moved-from solver is reusable
+  if (blockSize < 1 || A.rows() % blockSize != 0)
+    throw InputError(fmt::format("SpdSolver::compute: a {}×{} matrix cannot be made of {}×{} blocks",
+                                 A.rows(), A.cols(), blockSize, blockSize));
   LowerCsc L = lowerTriangle(A, "compute");
   Impl& s = *impl_;
   if (s.factor) cholmod_free_factor(&s.factor, &s.common);
   s.numericValid = false;
   s.n = 0;
   cholmod_sparse view_ = view(L);
-  s.factor = cholmod_analyze(&view_, &s.common);
+  if (blockSize == 1) {
+    s.factor = cholmod_analyze(&view_, &s.common);
+  } else {
+    // Order the blocks with the solver's method, then analyse L with that order expanded.
+    LowerCsc blocks = blockPattern(L, blockSize);
+    cholmod_sparse blockView = view(blocks);
+    cholmod_factor* blockFactor = cholmod_analyze(&blockView, &s.common);
+    if (!blockFactor || s.common.status < CHOLMOD_OK)
+      throw SolverError(fmt::format("SpdSolver: CHOLMOD analysis of the {}×{} block graph failed "
+                                    "({})",
+                                    blocks.n, blocks.n, statusText(s.common.status)));
+    std::vector<int> perm(L.n);
+    const int* blockPerm = static_cast<const int*>(blockFactor->Perm);
+    for (int k = 0; k < blocks.n; ++k)
+      for (int r = 0; r < blockSize; ++r) perm[k * blockSize + r] = blockPerm[k] * blockSize + r;
+    cholmod_free_factor(&blockFactor, &s.common);
+    const int nmethods = s.common.nmethods, ordering = s.common.method[0].ordering;
+    const int postorder = s.common.postorder;
+    s.common.nmethods = 1;
+    s.common.method[0].ordering = CHOLMOD_GIVEN;
+    s.common.postorder = 1;
+    s.factor = cholmod_analyze_p(&view_, perm.data(), nullptr, 0, &s.common);
+    s.common.nmethods = nmethods;
+    s.common.method[0].ordering = ordering;
+    s.common.postorder = postorder;
+  }
   if (!s.factor || s.common.status < CHOLMOD_OK)
     throw SolverError(fmt::format("SpdSolver: CHOLMOD analysis of the {}×{} matrix failed ({})",
                                   L.n, L.n, statusText(s.common.status)));

