@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <queue>
 #include <string>
@@ -171,17 +172,32 @@ double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
 }  // namespace
 
 struct FastMarchingDistance::Impl {
-  TriMesh mesh;
-  std::vector<std::vector<int>> vertexFaces;  // faces around each vertex
+  int numFaces = 0;
+  std::vector<Vec3> P;                     // #V positions, contiguous (the march reads each often)
+  std::vector<std::array<int, 3>> F;       // #F corners
+  std::vector<int> faceStart, faceList;   // faces around each vertex, CSR: faceStart is #V+1
 };
 
 FastMarchingDistance::FastMarchingDistance(const TriMesh& mesh)
     : impl_(std::make_unique<Impl>()) {
   validateMesh(mesh, "fast marching mesh");
-  impl_->mesh = mesh;
-  impl_->vertexFaces.resize(mesh.numVertices());
-  for (int f = 0; f < mesh.numFaces(); ++f)
-    for (int k = 0; k < 3; ++k) impl_->vertexFaces[mesh.F(f, k)].push_back(f);
+  Impl& d = *impl_;
+  const int nV = mesh.numVertices(), nF = mesh.numFaces();
+  d.numFaces = nF;
+  d.P.resize(nV);
+  for (int v = 0; v < nV; ++v) d.P[v] = mesh.V.row(v).transpose();
+  d.F.resize(nF);
+  d.faceStart.assign(nV + 1, 0);
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) {
+      d.F[f][k] = mesh.F(f, k);
+      ++d.faceStart[mesh.F(f, k) + 1];
+    }
+  for (int v = 0; v < nV; ++v) d.faceStart[v + 1] += d.faceStart[v];
+  d.faceList.resize(3 * nF);
+  std::vector<int> next(d.faceStart.begin(), d.faceStart.end() - 1);
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) d.faceList[next[mesh.F(f, k)]++] = f;
 }
 
 FastMarchingDistance::~FastMarchingDistance() = default;
@@ -189,8 +205,8 @@ FastMarchingDistance::FastMarchingDistance(FastMarchingDistance&&) noexcept = de
 FastMarchingDistance& FastMarchingDistance::operator=(FastMarchingDistance&&) noexcept = default;
 
 Eigen::VectorXd FastMarchingDistance::distance(const Isoline& curve) const {
-  const TriMesh& m = impl_->mesh;
-  const int nV = m.numVertices();
+  const Impl& m = *impl_;
+  const int nV = static_cast<int>(m.P.size());
   if (curve.length() <= 0)
     throw InputError("fast marching: the source curve has zero length (no isoline?)");
   constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -201,19 +217,19 @@ Eigen::VectorXd FastMarchingDistance::distance(const Isoline& curve) const {
     const size_t n = c.points.size();
     for (size_t i = 0; i < c.faces.size(); ++i) {
       const int f = c.faces[i];
-      if (f < 0 || f >= m.numFaces())
+      if (f < 0 || f >= m.numFaces)
         throw InputError("fast marching: the curve crosses face " + std::to_string(f) +
                          ", not a face of this mesh");
       const Vec3& a = c.points[i].position;
       const Vec3& b = c.points[(i + 1) % n].position;
-      for (int k = 0; k < 3; ++k) {
-        const int v = m.F(f, k);
-        d[v] = std::min(d[v], pointSegmentDistance(m.V.row(v).transpose(), a, b));
-      }
+      for (int v : m.F[f]) d[v] = std::min(d[v], pointSegmentDistance(m.P[v], a, b));
     }
   }
   using Entry = std::pair<double, int>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
+  std::vector<Entry> storage;
+  storage.reserve(nV);
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap(std::greater<>{},
+                                                                       std::move(storage));
   for (int v = 0; v < nV; ++v)
     if (std::isfinite(d[v])) heap.push({d[v], v});
   while (!heap.empty()) {
@@ -221,16 +237,16 @@ Eigen::VectorXd FastMarchingDistance::distance(const Isoline& curve) const {
     heap.pop();
     if (accepted[v] || dv > d[v]) continue;
     accepted[v] = 1;
-    for (int f : impl_->vertexFaces[v]) {
-      for (int k = 0; k < 3; ++k) {
-        const int w = m.F(f, k);
-        if (accepted[w]) continue;
-        // The third corner of f besides v and w.
-        const int u = m.F(f, 0) + m.F(f, 1) + m.F(f, 2) - v - w;
-        const Vec3 W = m.V.row(w).transpose(), V = m.V.row(v).transpose();
+    const Vec3& V = m.P[v];
+    for (int i = m.faceStart[v]; i < m.faceStart[v + 1]; ++i) {
+      const std::array<int, 3>& face = m.F[m.faceList[i]];
+      for (int w : face) {
+        if (accepted[w]) continue;  // v itself among them
+        // The third corner of the face besides v and w.
+        const int u = face[0] + face[1] + face[2] - v - w;
+        const Vec3& W = m.P[w];
         double cand = d[v] + (W - V).norm();
-        if (accepted[u])
-          cand = std::min(cand, triangleUpdate(V, m.V.row(u).transpose(), W, d[v], d[u]));
+        if (accepted[u]) cand = std::min(cand, triangleUpdate(V, m.P[u], W, d[v], d[u]));
         if (cand < d[w]) {
           d[w] = cand;
           heap.push({cand, w});
@@ -243,9 +259,10 @@ Eigen::VectorXd FastMarchingDistance::distance(const Isoline& curve) const {
 
 Eigen::VectorXd FastMarchingDistance::signedDistance(const Isoline& curve,
                                                      const Eigen::VectorXd& sign) const {
-  if (sign.size() != impl_->mesh.numVertices())
+  const int nV = static_cast<int>(impl_->P.size());
+  if (sign.size() != nV)
     throw InputError("fast marching: the sign field has " + std::to_string(sign.size()) +
-                     " values for " + std::to_string(impl_->mesh.numVertices()) + " vertices");
+                     " values for " + std::to_string(nV) + " vertices");
   Eigen::VectorXd d = distance(curve);
   for (int v = 0; v < d.size(); ++v)
     if (sign[v] < 0) d[v] = -d[v];
