@@ -179,6 +179,15 @@ Orientation estimateOrientation(const TriMesh& scan, const OrientationOptions& o
   const Slab bottom = slab(s, 0.0, 0.04), top = slab(s, 0.96, 1.0);
   const double bottomSpan = bottom.weight > 0 ? (bottom.max - bottom.min).norm() : 0;
   const double topSpan = top.weight > 0 ? (top.max - top.min).norm() : 0;
+  // A part of a person (only a torso, a bust): a head ends a standing person at one end or the
+  // other, a slab about 0.15 m across (a wide hat 0.4 m, 0.25 of the height); the cut ends of a
+  // torso are as wide as the body, 0.6 of its height.
+  constexpr double kHeadSpan = 0.3;  // of the height: the narrower end's widest span
+  if (std::min(topSpan, bottomSpan) > kHeadSpan * s.height)
+    throw InputError(what + " has no head at either end: its top and bottom ends are " +
+                     fmt2(topSpan) + " and " + fmt2(bottomSpan) + " m across for " + fmt2(s.height) +
+                     " m of height; this looks like a part of a person (only a torso?): give a "
+                     "scan of the whole person, head to feet");
   if ((centroid < 0.45 && topSpan > 0.7 * bottomSpan) || (centroid < 0.5 && topSpan > bottomSpan))
     throw InputError(what + " looks upside down: the surface centroid is at " +
                      fmt2(100 * centroid) + " % of the height and the top end is " +

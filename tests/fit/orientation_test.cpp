@@ -122,6 +122,27 @@ TEST(Orientation, PersonInAnALineDressIsNotUpsideDown) {
   EXPECT_NO_THROW(estimateOrientation(scan));
 }
 
+// Only a torso (the body between 50 % and 80 % of its height, arms cut off at the shoulders):
+// no head at either end, refused as a part of a person, not taken for a person upside down.
+TEST(Orientation, RefusesOnlyATorso) {
+  const TriMesh body = posed(TestPose::Rest);
+  const BoundingBox box = boundingBox(body.V);
+  const double H = box.extent().y(), cx = 0.5 * (box.min.x() + box.max.x());
+  TriMesh torso = cutByPlane(body, Eigen::Vector3d::UnitY(), box.min.y() + 0.8 * H);
+  torso = cutByPlane(torso, -Eigen::Vector3d::UnitY(), -(box.min.y() + 0.5 * H));
+  torso = cutByPlane(torso, Eigen::Vector3d::UnitX(), cx + 0.19);
+  torso = cutByPlane(torso, -Eigen::Vector3d::UnitX(), -(cx - 0.19));
+  removeUnreferencedVertices(torso);
+  ASSERT_GT(torso.numVertices(), 500);
+  try {
+    estimateOrientation(torso);
+    FAIL() << "a torso was taken for a person";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no head at either end"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(estimateOrientation(body));
+}
+
 TEST(Orientation, RefusesSphereTinyMeshAndWrongUnits) {
   EXPECT_THROW(estimateOrientation(makeIcosphere(3, 0.8)), InputError);
   EXPECT_THROW(estimateOrientation(makeIcosphere(0, 0.9)), InputError);  // 12 vertices
