@@ -7,6 +7,9 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "io/write_mesh.h"
@@ -18,6 +21,40 @@ namespace {
 struct Box {
   Eigen::Vector2d lo, hi;
 };
+
+// A piece's label at the centre of its box (corners `a`, `b` in pixels), one word a line, in a
+// font small enough (16 px at most, 8 at least) for the widest line to fit 90 % of the box's
+// width, so that labels of pieces side by side do not run into each other.
+void drawLabel(cairo_t* cr, const std::string& label, const Eigen::Vector2d& a,
+               const Eigen::Vector2d& b) {
+  std::vector<std::string> lines;
+  std::istringstream words(label);
+  for (std::string w; words >> w;) lines.push_back(w);
+  if (lines.empty()) return;
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
+  constexpr double kMaxSize = 16, kMinSize = 8;
+  cairo_set_font_size(cr, kMaxSize);
+  double widest = 0;
+  for (const std::string& l : lines) {
+    cairo_text_extents_t ext;
+    cairo_text_extents(cr, l.c_str(), &ext);
+    widest = std::max(widest, ext.x_advance);
+  }
+  const double room = 0.9 * std::abs(b.x() - a.x());
+  const double size =
+      widest > room ? std::max(kMinSize, kMaxSize * room / widest) : kMaxSize;
+  cairo_set_font_size(cr, size);
+  const Eigen::Vector2d c = 0.5 * (a + b);
+  const double lineHeight = 1.2 * size;
+  double y = c.y() - 0.5 * lineHeight * (static_cast<double>(lines.size()) - 1) + 0.35 * size;
+  for (const std::string& l : lines) {
+    cairo_text_extents_t ext;
+    cairo_text_extents(cr, l.c_str(), &ext);
+    cairo_move_to(cr, c.x() - ext.x_advance / 2, y);
+    cairo_show_text(cr, l.c_str());
+    y += lineHeight;
+  }
+}
 
 Box boxOf(const SheetPiece& p) {
   Box b{Eigen::Vector2d::Constant(1e30), Eigen::Vector2d::Constant(-1e30)};
@@ -134,13 +171,7 @@ void writeSheetPng(const std::filesystem::path& path, const std::vector<SheetPie
       cairo_stroke(cr);
     }
     const Box b = boxOf(piece);
-    const Eigen::Vector2d c = px(0.5 * (b.lo + b.hi) + off);
-    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
-    cairo_set_font_size(cr, 16);
-    cairo_text_extents_t ext;
-    cairo_text_extents(cr, piece.label.c_str(), &ext);
-    cairo_move_to(cr, c.x() - ext.width / 2, c.y());
-    cairo_show_text(cr, piece.label.c_str());
+    drawLabel(cr, piece.label, px(b.lo + off), px(b.hi + off));
   }
   // Legend: a colour bar with its ends labelled (none without colours).
   const double y0 = h - legendPx + 15, barW = std::min(400, w - 40);
