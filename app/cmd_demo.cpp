@@ -42,8 +42,9 @@ int runDemo(const fs::path& outDir, bool withDrape, Progress& progress) {
   progress.end();
   DrapeStageOptions drape;
   drape.enabled = withDrape;
-  const RunOutput run = runPipeline(loaded, model, {}, {}, progress, drape);
-  writeRun(outDir, loaded, model, run, progress);
+  EarlyWriters early(outDir, loaded, model);
+  const RunOutput run = runPipeline(loaded, model, {}, {}, progress, drape, {}, &early);
+  writeRun(outDir, loaded, model, run, progress, {}, &early);
   printRun(run, outDir);
   const Evaluation e =
       evaluate(loadEvaluation(resolveEvaluationFiles(outDir / "truth.json", outDir / "segment", {},

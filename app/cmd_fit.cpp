@@ -122,9 +122,10 @@ int runRun(const RunCommand& cmd, Progress& progress) {
   if (cmd.drapeSteps >= 0) drape.drape.sewMaxSteps = drape.drape.drapeMaxSteps = cmd.drapeSteps;
   PatternOptions pattern = cmd.pattern;
   pattern.flat.remesh.targetEdgeLength = cmd.remeshEdgeMm / 1000;
+  EarlyWriters early(cmd.fit.out, loaded, model);  // fit/ and segment/ written as they are done
   const RunOutput run = runPipeline(loaded, model, scanFitOptions(cmd.fit, loaded.scan), so,
-                                    progress, drape, pattern);
-  writeRun(cmd.fit.out, loaded, model, run, progress, cmd.print);
+                                    progress, drape, pattern, &early);
+  writeRun(cmd.fit.out, loaded, model, run, progress, cmd.print, &early);
   printRun(run, cmd.fit.out);
   if (run.patternError) std::rethrow_exception(run.patternError);
   return 0;

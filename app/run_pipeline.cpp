@@ -5,6 +5,8 @@
 
 #include <chrono>
 #include <functional>
+#include <future>
+#include <utility>
 
 #include "app/drape_output.h"
 #include "app/fit_output.h"
@@ -38,15 +40,100 @@ json segmentationSummary(const Segmentation& s) {
 
 }  // namespace
 
+// === EarlyWriters
+
+struct EarlyWriters::State {
+  fs::path out, staging;
+  bool outExisted = false;
+  const LoadedScan& scan;
+  const BodyModel& model;
+  std::vector<std::pair<std::string, std::future<void>>> writers;  // (subfolder, its writer)
+  bool committed = false;
+
+  State(fs::path o, const LoadedScan& s, const BodyModel& m)
+      : out(std::move(o)), staging(out / ".staging"), scan(s), model(m) {}
+
+  // Starts `write` on a thread of its own into staging/sub (made here, so that no two race).
+  void start(const std::string& sub, std::function<void(const fs::path&)> write) {
+    std::error_code ec;
+    if (writers.empty()) {
+      outExisted = fs::exists(out, ec);
+      fs::remove_all(staging, ec);
+    }
+    if (!fs::create_directories(staging / sub, ec) && ec) failed("make", staging / sub, ec);
+    writers.emplace_back(
+        sub, std::async(std::launch::async,
+                        [write = std::move(write), dir = staging / sub] { write(dir); }));
+  }
+  [[noreturn]] static void failed(const char* what, const fs::path& path, std::error_code ec) {
+    throw IoError("cannot " + std::string(what) + " the output folder " + path.string() + ": " +
+                  ec.message() + "; check its permissions and the free disk space");
+  }
+  // Waits for every writer; the first one's exception, if any.
+  std::exception_ptr wait() {
+    std::exception_ptr first;
+    for (auto& [sub, w] : writers) try {
+        if (w.valid()) w.get();
+      } catch (...) {
+        if (!first) first = std::current_exception();
+      }
+    return first;
+  }
+};
+
+EarlyWriters::EarlyWriters(fs::path out, const LoadedScan& scan, const BodyModel& model)
+    : state_(std::make_unique<State>(std::move(out), scan, model)) {}
+
+EarlyWriters::~EarlyWriters() {
+  state_->wait();
+  if (state_->committed || state_->writers.empty()) return;
+  std::error_code ec;
+  fs::remove_all(state_->staging, ec);
+  if (!state_->outExisted) fs::remove(state_->out, ec);  // only when left empty
+}
+
+void EarlyWriters::fitDone(const ScanFit& fit) {
+  auto copy = std::make_shared<const ScanFit>(fit);
+  State& s = *state_;
+  s.start("fit", [&s, copy](const fs::path& dir) { writeFit(dir, s.scan.scan, s.model, *copy); });
+}
+
+void EarlyWriters::segmentationDone(const Segmentation& seg) {
+  auto copy = std::make_shared<const SegmentOutput>(SegmentOutput{seg, "curve"});
+  State& s = *state_;
+  s.start("segment",
+          [&s, copy](const fs::path& dir) { writeSegmentation(dir, s.scan.scan, *copy); });
+}
+
+void EarlyWriters::commit() {
+  State& s = *state_;
+  if (const std::exception_ptr e = s.wait()) std::rethrow_exception(e);
+  std::error_code ec;
+  for (const auto& [sub, w] : s.writers) {
+    fs::remove_all(s.out / sub, ec);
+    if (ec) State::failed("replace", s.out / sub, ec);
+    fs::rename(s.staging / sub, s.out / sub, ec);
+    if (ec) State::failed("move into place", s.out / sub, ec);
+  }
+  if (!s.writers.empty()) fs::remove_all(s.staging, ec);
+  s.committed = true;
+}
+
+// === The run
+
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
                       Progress& progress, const DrapeStageOptions& drape,
-                      const PatternOptions& pattern) {
+                      const PatternOptions& pattern, EarlyWriters* early) {
   PipelineOptions options;
   options.pattern = pattern;
   options.fit = fitOptions;
   options.segment = segmentOptions;
   options.drape = drape;
+  if (early) {
+    options.onFit = [early](const ScanFit& fit) { early->fitDone(fit); };
+    options.onSegmentation = [early](const Segmentation& seg) { early->segmentationDone(seg); };
+  }
   RunOutput out;
   static_cast<PipelineResult&>(out) = s2p::runPipeline(scan.scan, model, options, progress);
   out.segment = {std::move(out.segmentation), "curve"};
@@ -111,12 +198,14 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
 }
 
 void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& model,
-              const RunOutput& run, Progress& progress, const PrintOptions& print) {
+              const RunOutput& run, Progress& progress, const PrintOptions& print,
+              EarlyWriters* early) {
   progress.begin("write outputs");
   // The folders' writers read the run and write files of their own, mostly pictures and PDFs
   // drawn on one thread each: they run side by side (on a 50k scan, 3.3 s one after another).
   // Each folder is made first, so that no two writers race to create it.
-  for (const char* sub : {"fit", "segment", "pattern"}) fs::create_directories(dir / sub);
+  for (const char* sub : {"fit", "segment", "pattern"})
+    if (!early || std::string(sub) == "pattern") fs::create_directories(dir / sub);
   // Each writer runs as a task that keeps its own copy of what to call and where its error goes.
   const auto guarded = [](std::exception_ptr* error, std::function<void()> write) {
     return [error, write = std::move(write)] {
@@ -139,13 +228,20 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
   };
   std::exception_ptr fitError, segmentError, panelsError, flatError, filesError;
   tbb::task_group writers;
-  writers.run(guarded(&fitError, fit));
-  writers.run(guarded(&segmentError, segment));
+  if (!early) {
+    writers.run(guarded(&fitError, fit));
+    writers.run(guarded(&segmentError, segment));
+  }
   if (!run.patternError) {
     writers.run(guarded(&panelsError, panels));
     writers.run(guarded(&flatError, flat));
     writers.run(guarded(&filesError, files));
   }
+  if (early) try {
+      early->commit();
+    } catch (const Error&) {
+      fitError = std::current_exception();
+    }
   writers.wait();
   if (fitError) std::rethrow_exception(fitError);
   if (segmentError) std::rethrow_exception(segmentError);

@@ -4,6 +4,7 @@
 
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -23,19 +24,44 @@ struct RunOutput : PipelineResult {
   SegmentOutput segment;
 };
 
-// Computes everything and writes nothing (bad input fails before any output exists).
+// Writes OUT/fit/ and OUT/segment/ as soon as their stage is final, beside the stages that
+// follow (the boundaries and the seams run on one core of two). The folders are staged in
+// OUT/.staging and moved into place by commit(), so that a run that fails later leaves nothing
+// behind: the staging folder is removed, and OUT too when this run made it.
+class EarlyWriters {
+ public:
+  EarlyWriters(std::filesystem::path out, const LoadedScan& scan, const BodyModel& model);
+  ~EarlyWriters();  // waits for the writers; removes what is staged unless committed
+  EarlyWriters(const EarlyWriters&) = delete;
+  EarlyWriters& operator=(const EarlyWriters&) = delete;
+
+  void fitDone(const ScanFit& fit);                // copies the fit, starts writing fit/
+  void segmentationDone(const Segmentation& seg);  // copies it, starts writing segment/
+  // Waits, rethrows the first writer's error, moves fit/ and segment/ into OUT (replacing the
+  // folders of an earlier run there).
+  void commit();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// Computes everything and writes nothing itself (bad input fails before any output exists);
+// with `early`, fit/ and segment/ are staged by it as soon as they are final.
 // drape: the drape check after the pattern (off unless asked for: `--drape`).
 RunOutput runPipeline(const LoadedScan& scan, const BodyModel& model,
                       const ScanFitOptions& fitOptions, const SegmentationOptions& segmentOptions,
                       Progress& progress, const DrapeStageOptions& drape = {},
-                      const PatternOptions& pattern = {});
+                      const PatternOptions& pattern = {}, EarlyWriters* early = nullptr);
 
 // OUT/fit/ (writeFit), OUT/segment/ (writeSegmentation), OUT/pattern/ (writePanels), OUT/drape/
 // (writeDrape, when the drape ran) and
 // OUT/report.json: stage timings,
 // warnings and what was found (garments, one-piece, occlusion).
+// With `early` (the writers runPipeline was given), fit/ and segment/ are its, committed here.
 void writeRun(const std::filesystem::path& dir, const LoadedScan& scan, const BodyModel& model,
-              const RunOutput& run, Progress& progress, const PrintOptions& print = {});
+              const RunOutput& run, Progress& progress, const PrintOptions& print = {},
+              EarlyWriters* early = nullptr);
 nlohmann::json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& run);
 void printRun(const RunOutput& run, const std::filesystem::path& dir);
 

@@ -81,6 +81,7 @@ PipelineResult runPipeline(const Scan& scan, const BodyModel& model, const Pipel
   auto t = Clock::now();
   out.fit = fitScan(scan.mesh, model, options.fit, &progress);
   out.stages.emplace_back("fit", secondsSince(t));
+  if (options.onFit) options.onFit(out.fit);
   t = Clock::now();
   out.body = fittedFeatures(model, out.fit);
   // The full fit carries the features; the body fitted under the clothes gives the scan's
@@ -88,6 +89,7 @@ PipelineResult runPipeline(const Scan& scan, const BodyModel& model, const Pipel
   out.segmentation = segmentScan(scan.mesh, scan.colour, out.body.body, out.fit.fittedInScanFrame(),
                                  out.body.features, options.segment, &progress);
   out.stages.emplace_back("segment", secondsSince(t));
+  if (options.onSegmentation) options.onSegmentation(out.segmentation);
   try {
     out.pattern = runPattern(panelsInput(out.segmentation, out.body), out.body, scan.mesh,
                              options.pattern, progress);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <exception>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -85,6 +86,10 @@ struct PipelineOptions {
   SegmentationOptions segment;
   PatternOptions pattern;
   DrapeStageOptions drape;
+  // Called on the pipeline's thread as soon as the fit / the segmentation is final, so that a
+  // caller can write them while the later stages run. Optional; must not keep the reference.
+  std::function<void(const ScanFit&)> onFit;
+  std::function<void(const Segmentation&)> onSegmentation;
 };
 
 struct PipelineResult {
