@@ -787,12 +787,17 @@ class Segmenter {
   struct Located {
     std::vector<std::vector<SurfacePoint>> splines;
     std::vector<ValueConstraint> signs;
+    // Pieces a spline crosses but no sign point lies on, signed by their labelled region points
+    // instead (regionSignedPieces): how many, their vertices, and the points added to `signs`.
+    int regionSignedPieces = 0, regionSignedVertices = 0, regionSigns = 0;
   };
 
   // The curve's anchors and sign points that lie on `present` (the part of the scan left: those
   // an earlier cut took away lie off it), located on `stage` (that part, or its decimated copy,
-  // whose surface strays from it by a fraction of a millimetre).
-  Located locateFeatures(const Stage& stage, const ProjectedCurve& curve,
+  // whose surface strays from it by a fraction of a millimetre); the pieces of `stage` a spline
+  // crosses but no sign point lies on get the job's labelled region points on them as sign
+  // points (regionSignedPieces).
+  Located locateFeatures(const Stage& stage, const ProjectedCurve& curve, const BoundaryJob& job,
                          const TriMesh& present) const {
     const MeshQuery query(stage.mesh);
     const std::optional<MeshQuery> presentQuery =
@@ -827,7 +832,59 @@ class Segmenter {
     const std::vector<SurfacePoint> pts = locate(query, left, kAnywhere);
     for (size_t i = 0; i < pts.size(); ++i)
       out.signs.push_back({pts[i], curve.signs[index[i]].value});
+    regionSignedPieces(stage, job, query, onPresent, out);
     return out;
+  }
+
+  // The biharmonic of Eq. (1) is solved per piece of the scan (the Laplacian has one block per
+  // piece), so a piece that holds zero constraints and no sign point gets φ ≡ 0: which side of
+  // the curve is which is decided there by nothing (boots scanned apart hold every sign point of
+  // B(L|S), toes and soles, while the ankle splines lie on the legs: the whole torso once went to
+  // the feet's side). On such a piece the labelled region points (face and hands, chest, hips
+  // and thigh tops, feet: where each label lies on every outfit) stand in for sign points, each
+  // with the side its label takes at this boundary. A piece with sign points keeps them alone.
+  void regionSignedPieces(const Stage& stage, const BoundaryJob& job, const MeshQuery& query,
+                          const MeshQuery& onPresent, Located& out) const {
+    if (out.splines.empty() || out.signs.empty()) return;  // nothing cut (optimise's skip)
+    const MeshTopology topo(stage.mesh.F, stage.mesh.numVertices());
+    const int n = topo.numComponents();
+    if (n < 2) return;
+    const Eigen::VectorXi& pieceOf = topo.faceComponent();
+    std::vector<char> crossed(n, 0), hasSign(n, 0);
+    for (const std::vector<SurfacePoint>& s : out.splines)
+      for (const SurfacePoint& p : s) crossed[pieceOf[p.face]] = 1;
+    for (const ValueConstraint& c : out.signs)
+      if (c.value != 0) hasSign[pieceOf[c.point.face]] = 1;
+    std::vector<char> unsignedPiece(n, 0);
+    bool any = false;
+    for (int p = 0; p < n; ++p) any |= (unsignedPiece[p] = crossed[p] && !hasSign[p]) != 0;
+    if (!any) return;
+    constexpr double kAnywhere = std::numeric_limits<double>::infinity();
+    std::vector<char> used(n, 0);
+    for (size_t i = 0; i < job.regions.size(); ++i) {
+      const std::vector<Vec3>& positions = regionPositions_[job.regions[i]];
+      std::vector<int> kept;
+      locate(onPresent, positions, tolerance_, &kept);
+      std::vector<Vec3> left;
+      for (int k : kept) left.push_back(positions[k]);
+      for (const SurfacePoint& p : locate(query, left, kAnywhere)) {
+        const int piece = pieceOf[p.face];
+        if (!unsignedPiece[piece]) continue;
+        out.signs.push_back({p, job.positive[i] ? 1.0 : -1.0});
+        used[piece] = 1;
+        ++out.regionSigns;
+      }
+    }
+    std::vector<int> vertexPiece(stage.mesh.numVertices(), -1), vertices(n, 0);
+    for (int f = 0; f < stage.mesh.numFaces(); ++f)
+      for (int k = 0; k < 3; ++k) vertexPiece[stage.mesh.F(f, k)] = pieceOf[f];
+    for (int p : vertexPiece)
+      if (p >= 0) ++vertices[p];
+    for (int p = 0; p < n; ++p)
+      if (used[p]) {
+        ++out.regionSignedPieces;
+        out.regionSignedVertices += vertices[p];
+      }
   }
 
   // optimiseAndCutOnce with a solver's failure restated: which boundary, on what, what to do.
@@ -959,7 +1016,12 @@ class Segmenter {
     rep.droppedAnchors = curve.droppedAnchors;
     rep.signs = curve.numSigns;
     rep.droppedSigns = curve.droppedSigns;
-    const Located f = locateFeatures(stage, curve, present);
+    const Located f = locateFeatures(stage, curve, job, present);
+    if (f.regionSignedPieces > 0)
+      pieceNotes_.push_back(fmt::format(
+          "boundary {}: {} piece(s) of {} vertices that a spline crosses but no sign point lies on "
+          "signed by the {} labelled region points on them",
+          curve.name, f.regionSignedPieces, f.regionSignedVertices, f.regionSigns));
     int pos = 0, neg = 0;
     for (const ValueConstraint& c : f.signs) (c.value > 0 ? pos : neg)++;
     if (f.splines.empty() || pos + neg == 0) {
