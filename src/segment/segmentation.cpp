@@ -352,6 +352,11 @@ struct BoundaryJob {
   // skin is on the positive side, −1 when the garment is; −1 for the region: no offset term.
   int offsetRegion = -1;
   double offsetSign = 1;
+  // Both sides are garments of different colours (B(U|L) of upper and lower): a colour both of
+  // their models hold (sharedColours: a jersey's white stripes over white shorts) pushes neither
+  // way. Its posterior otherwise goes to the model where that colour weighs more, and the waist
+  // boundary stopped in the first stripe of it, 17 cm above the jersey's hem.
+  bool neutralSharedColours = false;
 };
 
 // The labelled region points projected to the scan, by RegionLabel (skin, upper, lower, foot);
@@ -1041,8 +1046,20 @@ class Segmenter {
     }
     std::vector<GaussianMixture> models;
     for (int r : job.regions) models.push_back(colours_.models[r]);
-    Eigen::VectorXd phiD =
-        smoothedDisplacement(stage.mesh, models, job.positive, stage.lab, options_.colour);
+    std::vector<bool> neutral;  // #V: a colour both sides hold; the steps decide there alone
+    if (job.neutralSharedColours && job.regions.size() == 2) {
+      neutral = sharedColours(colours_.models[job.regions[0]], colours_.models[job.regions[1]],
+                              stage.lab);
+      const auto shared = std::count(neutral.begin(), neutral.end(), true);
+      if (shared == 0) neutral.clear();
+      if (shared > 0)
+        pieceNotes_.push_back(fmt::format(
+            "boundary {}: {:.1f} % of the vertices have a colour both garments' models hold; "
+            "colour pushes neither way there",
+            curve.name, 100.0 * static_cast<double>(shared) / static_cast<double>(neutral.size())));
+    }
+    Eigen::VectorXd phiD = smoothedDisplacement(stage.mesh, models, job.positive, stage.lab,
+                                                options_.colour, neutral);
     BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
     const double w =
         stage.step.size() > 0 && job.geometry ? geometryWeight(job.deltaE, options_.geometry) : 0.0;
@@ -1051,8 +1068,9 @@ class Segmenter {
       r.phi0 = r.phi = optimizer.initialImplicit(f.splines, f.signs);
       r.initial = r.boundary = extractIsoline(stage.mesh, r.phi);
       r.converged = true;
-    } else if (w > 0) {
-      // Colour that cannot tell the sides apart: the steps of the offset join it (body_offset.h).
+    } else if (w > 0 || (stage.step.size() > 0 && job.geometry && !neutral.empty())) {
+      // Colour that cannot tell the sides apart: the steps of the offset join it (body_offset.h),
+      // at full weight where the colour is one both sides hold.
       const auto tInit = Clock::now();
       const Eigen::VectorXd phi0 = optimizer.initialImplicit(f.splines, f.signs);
       double high = job.highSide;
@@ -1076,7 +1094,10 @@ class Segmenter {
             "garment at {:.1f} mm, medians)",
             curve.name, 1000 * regionOffset_[kSkin], 1000 * regionOffset_[job.offsetRegion]));
       }
-      phiD = combinedDisplacement(phiD, stepDisplacement(stage.step, high, options_.geometry), w);
+      const Eigen::VectorXd step = stepDisplacement(stage.step, high, options_.geometry);
+      phiD = combinedDisplacement(phiD, step, w);
+      for (size_t v = 0; v < neutral.size(); ++v)
+        if (neutral[v]) phiD[v] = std::clamp(phiD[v] + 2 * (1 - w) * step[v], -1.0, 1.0);
       rep.geometryWeight = w;
       rep.highSide = high;
       geometryNotes_.push_back(fmt::format(
@@ -1189,6 +1210,7 @@ class Segmenter {
                     Label::Upper,  Label::Lower};
     job.deltaE = separation(kUpper, kLower);
     job.highSide = 0;  // from the steps: a top worn over the trousers, or tucked in
+    job.neutralSharedColours = !lowerOnly && !upperOnly && !tentativeOnePiece_;
     if (lowerOnly) {
       job.garment = Label::Lower;
       job.other = Label::Skin;
