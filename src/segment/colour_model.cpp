@@ -179,17 +179,26 @@ Eigen::MatrixXd smoothOnSurface(const TriMesh& mesh, const Eigen::MatrixXd& valu
 std::vector<bool> sharedColours(const GaussianMixture& a, const GaussianMixture& b,
                                 const Eigen::MatrixX3d& lab) {
   constexpr double kChi2Three95 = 7.815;  // 95 % quantile of χ² with 3 degrees of freedom
-  const auto inside = [&](const GaussianMixture& g, const Eigen::Vector3d& x) {
-    for (int k = 0; k < g.components(); ++k) {
-      const Eigen::Vector3d d = x - g.means.row(k).transpose();
-      if (d.dot(g.covariances[k].ldlt().solve(d)) < kChi2Three95) return true;
-    }
-    return false;
+  const auto inside = [](const GaussianMixture& g, int k, const Eigen::Vector3d& x) {
+    const Eigen::Vector3d d = x - g.means.row(k).transpose();
+    return d.dot(g.covariances[k].ldlt().solve(d)) < kChi2Three95;
   };
-  std::vector<bool> out(static_cast<size_t>(lab.rows()));
-  for (int i = 0; i < lab.rows(); ++i) {
-    const Eigen::Vector3d x = lab.row(i).transpose();
-    out[i] = inside(a, x) && inside(b, x);
+  // Pairs of one colour: each mean inside the other's ellipsoid (a broad component of blends
+  // that merely covers the other garment's colour is no pair).
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < a.components(); ++i)
+    for (int j = 0; j < b.components(); ++j)
+      if (inside(a, i, b.means.row(j).transpose()) && inside(b, j, a.means.row(i).transpose()))
+        pairs.emplace_back(i, j);
+  std::vector<bool> out(static_cast<size_t>(lab.rows()), false);
+  if (pairs.empty()) return out;
+  for (int r = 0; r < lab.rows(); ++r) {
+    const Eigen::Vector3d x = lab.row(r).transpose();
+    for (const auto& [i, j] : pairs)
+      if (inside(a, i, x) && inside(b, j, x)) {
+        out[r] = true;
+        break;
+      }
   }
   return out;
 }

@@ -68,10 +68,11 @@ GaussianMixture withoutBorrowedComponents(const GaussianMixture& model,
                                           const GaussianMixture& other, double maxShare = 0.5,
                                           double* dropped = nullptr);
 
-// Per row of lab (#N×3, CIELAB): true when the colour lies inside the 95 % ellipsoid
-// (Mahalanobis² < 7.81, as withoutBorrowedComponents) of a component of `a` and of one of `b`:
-// a colour both garments are made of (a jersey's white stripes over white shorts), which says
-// nothing about which of the two a point belongs to.
+// Per row of lab (#N×3, CIELAB): true when the colour lies inside the 95 % ellipsoids
+// (Mahalanobis² < 7.81, as withoutBorrowedComponents) of a component of `a` and a component of
+// `b` that are one colour (each one's mean inside the other's ellipsoid): a colour both garments
+// are made of (a jersey's white stripes over white shorts), which says nothing about which of
+// the two a point belongs to.
 std::vector<bool> sharedColours(const GaussianMixture& a, const GaussianMixture& b,
                                 const Eigen::MatrixX3d& lab);
 
