@@ -1048,8 +1048,13 @@ class Segmenter {
     for (int r : job.regions) models.push_back(colours_.models[r]);
     std::vector<bool> neutral;  // #V: a colour both sides hold; the steps decide there alone
     if (job.neutralSharedColours && job.regions.size() == 2) {
-      neutral = sharedColours(colours_.models[job.regions[0]], colours_.models[job.regions[1]],
-                              stage.lab);
+      // The negative side's strays are not a colour the garments share: its region points on a
+      // top worn untucked make a minority component the positive side explains (kept when the top
+      // was found by its edges, pruneLowerModel), and their colour is the top's alone.
+      const GaussianMixture& positive = colours_.models[job.regions[0]];
+      neutral = sharedColours(
+          positive, withoutBorrowedComponents(colours_.models[job.regions[1]], positive),
+          stage.lab);
       const auto shared = std::count(neutral.begin(), neutral.end(), true);
       if (shared == 0) neutral.clear();
       if (shared > 0)
