@@ -1052,9 +1052,9 @@ class Segmenter {
       // top worn untucked make a minority component the positive side explains (kept when the top
       // was found by its edges, pruneLowerModel), and their colour is the top's alone.
       const GaussianMixture& positive = colours_.models[job.regions[0]];
-      neutral = sharedColours(
-          positive, withoutBorrowedComponents(colours_.models[job.regions[1]], positive),
-          stage.lab);
+      neutral = sharedColours(positive,
+                              withoutBorrowedComponents(colours_.models[job.regions[1]], positive),
+                              stage.lab);
       const auto shared = std::count(neutral.begin(), neutral.end(), true);
       if (shared == 0) neutral.clear();
       if (shared > 0)
@@ -1063,8 +1063,8 @@ class Segmenter {
             "colour pushes neither way there",
             curve.name, 100.0 * static_cast<double>(shared) / static_cast<double>(neutral.size())));
     }
-    Eigen::VectorXd phiD = smoothedDisplacement(stage.mesh, models, job.positive, stage.lab,
-                                                options_.colour, neutral);
+    Eigen::VectorXd phiD =
+        smoothedDisplacement(stage.mesh, models, job.positive, stage.lab, options_.colour, neutral);
     BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
     const double w =
         stage.step.size() > 0 && job.geometry ? geometryWeight(job.deltaE, options_.geometry) : 0.0;
