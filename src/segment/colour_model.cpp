@@ -176,6 +176,33 @@ Eigen::MatrixXd smoothOnSurface(const TriMesh& mesh, const Eigen::MatrixXd& valu
   return x;
 }
 
+std::vector<bool> sharedColours(const GaussianMixture& a, const GaussianMixture& b,
+                                const Eigen::MatrixX3d& lab) {
+  constexpr double kChi2Three95 = 7.815;  // 95 % quantile of χ² with 3 degrees of freedom
+  const auto inside = [](const GaussianMixture& g, int k, const Eigen::Vector3d& x) {
+    const Eigen::Vector3d d = x - g.means.row(k).transpose();
+    return d.dot(g.covariances[k].ldlt().solve(d)) < kChi2Three95;
+  };
+  // Pairs of one colour: each mean inside the other's ellipsoid (a broad component of blends
+  // that merely covers the other garment's colour is no pair).
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < a.components(); ++i)
+    for (int j = 0; j < b.components(); ++j)
+      if (inside(a, i, b.means.row(j).transpose()) && inside(b, j, a.means.row(i).transpose()))
+        pairs.emplace_back(i, j);
+  std::vector<bool> out(static_cast<size_t>(lab.rows()), false);
+  if (pairs.empty()) return out;
+  for (int r = 0; r < lab.rows(); ++r) {
+    const Eigen::Vector3d x = lab.row(r).transpose();
+    for (const auto& [i, j] : pairs)
+      if (inside(a, i, x) && inside(b, j, x)) {
+        out[r] = true;
+        break;
+      }
+  }
+  return out;
+}
+
 GaussianMixture withoutBorrowedComponents(const GaussianMixture& model,
                                           const GaussianMixture& other, double maxShare,
                                           double* droppedWeight) {
@@ -273,10 +300,18 @@ SkinModel fitSkinModel(const Eigen::MatrixX3d& lab, double spreadFactor, double 
 
 Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh, const std::vector<GaussianMixture>& models,
                                      const std::vector<bool>& positive, const Eigen::MatrixX3d& lab,
-                                     const ColourModelOptions& options) {
+                                     const ColourModelOptions& options,
+                                     const std::vector<bool>& neutral) {
+  Eigen::VectorXd phi = posteriorDisplacement(models, positive, lab);
+  if (!neutral.empty()) {
+    if (neutral.size() != static_cast<size_t>(phi.size()))
+      throw InputError("colour model: " + std::to_string(neutral.size()) +
+                       " neutral flags for " + std::to_string(phi.size()) + " vertices");
+    for (int v = 0; v < phi.size(); ++v)
+      if (neutral[v]) phi[v] = 0;
+  }
   // Clamped: the cotan Laplacian of a mesh with obtuse triangles can overshoot by a hair.
-  return smoothOnSurface(mesh, posteriorDisplacement(models, positive, lab),
-                         options.displacementSmoothing, options.smoothingSteps)
+  return smoothOnSurface(mesh, phi, options.displacementSmoothing, options.smoothingSteps)
       .col(0)
       .cwiseMax(-1.0)
       .cwiseMin(1.0);

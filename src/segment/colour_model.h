@@ -68,6 +68,14 @@ GaussianMixture withoutBorrowedComponents(const GaussianMixture& model,
                                           const GaussianMixture& other, double maxShare = 0.5,
                                           double* dropped = nullptr);
 
+// Per row of lab (#N×3, CIELAB): true when the colour lies inside the 95 % ellipsoids
+// (Mahalanobis² < 7.81, as withoutBorrowedComponents) of a component of `a` and a component of
+// `b` that are one colour (each one's mean inside the other's ellipsoid): a colour both garments
+// are made of (a jersey's white stripes over white shorts), which says nothing about which of
+// the two a point belongs to.
+std::vector<bool> sharedColours(const GaussianMixture& a, const GaussianMixture& b,
+                                const Eigen::MatrixX3d& lab);
+
 // φ_d = 2(P(positive | x) − ½) per row of lab (#N×3) with equal label priors: a label's
 // region points reflect the feature layout, not its area. models: one mixture per label;
 // positive[i] says which side label i pushes to (+1). Throws InputError when the sizes
@@ -130,10 +138,12 @@ RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb
 
 // The displacement of one boundary on `mesh` (the scan, or what earlier cuts left of it):
 // posteriorDisplacement of its colours lab (#V×3), smoothed by options.displacementSmoothing.
+// `neutral` (#V, or empty): vertices whose displacement is 0 before the smoothing.
 Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh,
                                      const std::vector<GaussianMixture>& models,
                                      const std::vector<bool>& positive, const Eigen::MatrixX3d& lab,
-                                     const ColourModelOptions& options);
+                                     const ColourModelOptions& options,
+                                     const std::vector<bool>& neutral = {});
 
 // srgb: #V×3 in [0, 1]. Throws InputError for a colour matrix of the wrong size or non-finite,
 // a region without points, a point off the mesh, or no region on one side.

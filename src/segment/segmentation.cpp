@@ -352,6 +352,11 @@ struct BoundaryJob {
   // skin is on the positive side, −1 when the garment is; −1 for the region: no offset term.
   int offsetRegion = -1;
   double offsetSign = 1;
+  // Both sides are garments of different colours (B(U|L) of upper and lower): a colour both of
+  // their models hold (sharedColours: a jersey's white stripes over white shorts) pushes neither
+  // way. Its posterior otherwise goes to the model where that colour weighs more, and the waist
+  // boundary stopped in the first stripe of it, 17 cm above the jersey's hem.
+  bool neutralSharedColours = false;
 };
 
 // The labelled region points projected to the scan, by RegionLabel (skin, upper, lower, foot);
@@ -787,12 +792,17 @@ class Segmenter {
   struct Located {
     std::vector<std::vector<SurfacePoint>> splines;
     std::vector<ValueConstraint> signs;
+    // Pieces a spline crosses but no sign point lies on, signed by their labelled region points
+    // instead (regionSignedPieces): how many, their vertices, and the points added to `signs`.
+    int regionSignedPieces = 0, regionSignedVertices = 0, regionSigns = 0;
   };
 
   // The curve's anchors and sign points that lie on `present` (the part of the scan left: those
   // an earlier cut took away lie off it), located on `stage` (that part, or its decimated copy,
-  // whose surface strays from it by a fraction of a millimetre).
-  Located locateFeatures(const Stage& stage, const ProjectedCurve& curve,
+  // whose surface strays from it by a fraction of a millimetre); the pieces of `stage` a spline
+  // crosses but no sign point lies on get the job's labelled region points on them as sign
+  // points (regionSignedPieces).
+  Located locateFeatures(const Stage& stage, const ProjectedCurve& curve, const BoundaryJob& job,
                          const TriMesh& present) const {
     const MeshQuery query(stage.mesh);
     const std::optional<MeshQuery> presentQuery =
@@ -827,7 +837,59 @@ class Segmenter {
     const std::vector<SurfacePoint> pts = locate(query, left, kAnywhere);
     for (size_t i = 0; i < pts.size(); ++i)
       out.signs.push_back({pts[i], curve.signs[index[i]].value});
+    regionSignedPieces(stage, job, query, onPresent, out);
     return out;
+  }
+
+  // The biharmonic of Eq. (1) is solved per piece of the scan (the Laplacian has one block per
+  // piece), so a piece that holds zero constraints and no sign point gets φ ≡ 0: which side of
+  // the curve is which is decided there by nothing (boots scanned apart hold every sign point of
+  // B(L|S), toes and soles, while the ankle splines lie on the legs: the whole torso once went to
+  // the feet's side). On such a piece the labelled region points (face and hands, chest, hips
+  // and thigh tops, feet: where each label lies on every outfit) stand in for sign points, each
+  // with the side its label takes at this boundary. A piece with sign points keeps them alone.
+  void regionSignedPieces(const Stage& stage, const BoundaryJob& job, const MeshQuery& query,
+                          const MeshQuery& onPresent, Located& out) const {
+    if (out.splines.empty() || out.signs.empty()) return;  // nothing cut (optimise's skip)
+    const MeshTopology topo(stage.mesh.F, stage.mesh.numVertices());
+    const int n = topo.numComponents();
+    if (n < 2) return;
+    const Eigen::VectorXi& pieceOf = topo.faceComponent();
+    std::vector<char> crossed(n, 0), hasSign(n, 0);
+    for (const std::vector<SurfacePoint>& s : out.splines)
+      for (const SurfacePoint& p : s) crossed[pieceOf[p.face]] = 1;
+    for (const ValueConstraint& c : out.signs)
+      if (c.value != 0) hasSign[pieceOf[c.point.face]] = 1;
+    std::vector<char> unsignedPiece(n, 0);
+    bool any = false;
+    for (int p = 0; p < n; ++p) any |= (unsignedPiece[p] = crossed[p] && !hasSign[p]) != 0;
+    if (!any) return;
+    constexpr double kAnywhere = std::numeric_limits<double>::infinity();
+    std::vector<char> used(n, 0);
+    for (size_t i = 0; i < job.regions.size(); ++i) {
+      const std::vector<Vec3>& positions = regionPositions_[job.regions[i]];
+      std::vector<int> kept;
+      locate(onPresent, positions, tolerance_, &kept);
+      std::vector<Vec3> left;
+      for (int k : kept) left.push_back(positions[k]);
+      for (const SurfacePoint& p : locate(query, left, kAnywhere)) {
+        const int piece = pieceOf[p.face];
+        if (!unsignedPiece[piece]) continue;
+        out.signs.push_back({p, job.positive[i] ? 1.0 : -1.0});
+        used[piece] = 1;
+        ++out.regionSigns;
+      }
+    }
+    std::vector<int> vertexPiece(stage.mesh.numVertices(), -1), vertices(n, 0);
+    for (int f = 0; f < stage.mesh.numFaces(); ++f)
+      for (int k = 0; k < 3; ++k) vertexPiece[stage.mesh.F(f, k)] = pieceOf[f];
+    for (int p : vertexPiece)
+      if (p >= 0) ++vertices[p];
+    for (int p = 0; p < n; ++p)
+      if (used[p]) {
+        ++out.regionSignedPieces;
+        out.regionSignedVertices += vertices[p];
+      }
   }
 
   // optimiseAndCutOnce with a solver's failure restated: which boundary, on what, what to do.
@@ -959,7 +1021,12 @@ class Segmenter {
     rep.droppedAnchors = curve.droppedAnchors;
     rep.signs = curve.numSigns;
     rep.droppedSigns = curve.droppedSigns;
-    const Located f = locateFeatures(stage, curve, present);
+    const Located f = locateFeatures(stage, curve, job, present);
+    if (f.regionSignedPieces > 0)
+      pieceNotes_.push_back(fmt::format(
+          "boundary {}: {} piece(s) of {} vertices that a spline crosses but no sign point lies on "
+          "signed by the {} labelled region points on them",
+          curve.name, f.regionSignedPieces, f.regionSignedVertices, f.regionSigns));
     int pos = 0, neg = 0;
     for (const ValueConstraint& c : f.signs) (c.value > 0 ? pos : neg)++;
     if (f.splines.empty() || pos + neg == 0) {
@@ -979,8 +1046,25 @@ class Segmenter {
     }
     std::vector<GaussianMixture> models;
     for (int r : job.regions) models.push_back(colours_.models[r]);
+    std::vector<bool> neutral;  // #V: a colour both sides hold; the steps decide there alone
+    if (job.neutralSharedColours && job.regions.size() == 2) {
+      // The negative side's strays are not a colour the garments share: its region points on a
+      // top worn untucked make a minority component the positive side explains (kept when the top
+      // was found by its edges, pruneLowerModel), and their colour is the top's alone.
+      const GaussianMixture& positive = colours_.models[job.regions[0]];
+      neutral = sharedColours(positive,
+                              withoutBorrowedComponents(colours_.models[job.regions[1]], positive),
+                              stage.lab);
+      const auto shared = std::count(neutral.begin(), neutral.end(), true);
+      if (shared == 0) neutral.clear();
+      if (shared > 0)
+        pieceNotes_.push_back(fmt::format(
+            "boundary {}: {:.1f} % of the vertices have a colour both garments' models hold; "
+            "colour pushes neither way there",
+            curve.name, 100.0 * static_cast<double>(shared) / static_cast<double>(neutral.size())));
+    }
     Eigen::VectorXd phiD =
-        smoothedDisplacement(stage.mesh, models, job.positive, stage.lab, options_.colour);
+        smoothedDisplacement(stage.mesh, models, job.positive, stage.lab, options_.colour, neutral);
     BoundaryOptimizer optimizer(stage.mesh, options_.boundary);
     const double w =
         stage.step.size() > 0 && job.geometry ? geometryWeight(job.deltaE, options_.geometry) : 0.0;
@@ -989,8 +1073,9 @@ class Segmenter {
       r.phi0 = r.phi = optimizer.initialImplicit(f.splines, f.signs);
       r.initial = r.boundary = extractIsoline(stage.mesh, r.phi);
       r.converged = true;
-    } else if (w > 0) {
-      // Colour that cannot tell the sides apart: the steps of the offset join it (body_offset.h).
+    } else if (w > 0 || (stage.step.size() > 0 && job.geometry && !neutral.empty())) {
+      // Colour that cannot tell the sides apart: the steps of the offset join it (body_offset.h),
+      // at full weight where the colour is one both sides hold.
       const auto tInit = Clock::now();
       const Eigen::VectorXd phi0 = optimizer.initialImplicit(f.splines, f.signs);
       double high = job.highSide;
@@ -1014,7 +1099,10 @@ class Segmenter {
             "garment at {:.1f} mm, medians)",
             curve.name, 1000 * regionOffset_[kSkin], 1000 * regionOffset_[job.offsetRegion]));
       }
-      phiD = combinedDisplacement(phiD, stepDisplacement(stage.step, high, options_.geometry), w);
+      const Eigen::VectorXd step = stepDisplacement(stage.step, high, options_.geometry);
+      phiD = combinedDisplacement(phiD, step, w);
+      for (size_t v = 0; v < neutral.size(); ++v)
+        if (neutral[v]) phiD[v] = std::clamp(phiD[v] + 2 * (1 - w) * step[v], -1.0, 1.0);
       rep.geometryWeight = w;
       rep.highSide = high;
       geometryNotes_.push_back(fmt::format(
@@ -1127,6 +1215,7 @@ class Segmenter {
                     Label::Upper,  Label::Lower};
     job.deltaE = separation(kUpper, kLower);
     job.highSide = 0;  // from the steps: a top worn over the trousers, or tucked in
+    job.neutralSharedColours = !lowerOnly && !upperOnly && !tentativeOnePiece_;
     if (lowerOnly) {
       job.garment = Label::Lower;
       job.other = Label::Skin;

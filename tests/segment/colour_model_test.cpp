@@ -117,6 +117,38 @@ TEST(ColourModel, MajorityOrUnexplainedComponentsAreKept) {
   EXPECT_EQ(withoutBorrowedComponents(other, upper).components(), other.components());
 }
 
+// Issue 17, glb_footballer: a jersey of red (70 %) and white (30 %) stripes over white shorts.
+// The white is in both models and weighs more in the shorts': its posterior says "shorts"
+// (φ_d ≈ −0.5), and the waist boundary stopped in the jersey's first white stripe. It is a shared
+// colour; the red and a navy the shorts lack are not; a neutral vertex's displacement is 0.
+TEST(ColourModel, AColourBothGarmentsHoldIsSharedAndPushesNeitherWay) {
+  const Eigen::RowVector3d red(40, 58, 38), white(93, -1, 2.5), navy(25, 8, -25);
+  const GaussianMixture upper =
+      fitGaussianMixture(clusters({red, white}, {140, 60}, 1), {.seed = 2});
+  const GaussianMixture lower = fitGaussianMixture(clusters({white}, {200}, 3), {.seed = 4});
+  const Eigen::MatrixX3d probe = (Eigen::MatrixX3d(3, 3) << red, white, navy).finished();
+  const std::vector<bool> shared = sharedColours(upper, lower, probe);
+  EXPECT_EQ(shared, (std::vector<bool>{false, true, false}));
+  EXPECT_EQ(sharedColours(lower, upper, probe), shared);  // symmetric
+  EXPECT_LT(posteriorDisplacement({upper, lower}, {true, false}, probe)[1], -0.3);
+
+  const TriMesh cyl = makeCylinder(20, 16, 0.1, 1.0);
+  Eigen::MatrixX3d lab(cyl.numVertices(), 3);
+  for (int v = 0; v < cyl.numVertices(); ++v) lab.row(v) = cyl.V(v, 1) > 0.5 ? red : white;
+  const std::vector<bool> neutral = sharedColours(upper, lower, lab);
+  ColourModelOptions o;
+  o.displacementSmoothing = 0;
+  const Eigen::VectorXd d =
+      smoothedDisplacement(cyl, {upper, lower}, {true, false}, lab, o, neutral);
+  for (int v = 0; v < cyl.numVertices(); ++v)
+    if (cyl.V(v, 1) > 0.5)
+      EXPECT_GT(d[v], 0.99);
+    else
+      EXPECT_EQ(d[v], 0.0);
+  EXPECT_THROW(smoothedDisplacement(cyl, {upper, lower}, {true, false}, lab, o, {true}),
+               InputError);
+}
+
 // A region on a two-colour print (stripes three rings wide), its points anywhere in their faces:
 // the mixture has the two colours and nothing between them. Interpolated at the points, the
 // colours of the faces across each stripe edge are blends, and they made a component of their own
