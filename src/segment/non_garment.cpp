@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "core/colour.h"
@@ -61,8 +62,9 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
   std::vector<std::vector<int>> members(seeds.count);
   for (int v = 0; v < nV; ++v)
     if (offset[v] > options.seedOffset) members[seeds.region[v]].push_back(v);
-  std::vector<int> kept;  // seed vertices of the objects
+  std::vector<int> kept;  // seed vertices of the candidates
   std::vector<int> objectOf(nV, -1);
+  int candidates = 0;
   for (const std::vector<int>& m : members) {
     double a = 0;
     for (int v : m) a += area[v];
@@ -71,19 +73,12 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
       ++out.headSeeds;
       continue;
     }
-    const double span = angularSpan(mesh.V, m, axis);
-    if (span > options.maxSpan) {
-      ++out.rejectedSeeds;
-      continue;
-    }
-    HeldObject o;
-    o.span = span;
-    for (int v : m) objectOf[v] = static_cast<int>(out.objects.size());
+    for (int v : m) objectOf[v] = candidates;
     kept.insert(kept.end(), m.begin(), m.end());
-    out.objects.push_back(o);
+    ++candidates;
   }
   if (kept.empty()) return out;
-  // Grow each object from its seed over the scan above the edge level, within `reach`.
+  // Grow each candidate from its seed over the scan above the edge level, within `reach`.
   const RowCloud cloud{&mesh.V, &kept};
   RowTree tree(3, cloud);
   tree.buildIndex();
@@ -109,6 +104,36 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
         stack.push_back(w);
       }
   }
+  // Candidates that grew into each other are one (the front and back of a long skirt, far off
+  // the legs, joined around its sides); one reaching further than maxSpan around the body hangs
+  // all around it: a garment, not an object at one side.
+  std::vector<int> group(candidates);
+  for (int c = 0; c < candidates; ++c) group[c] = c;
+  const std::function<int(int)> root = [&](int c) {
+    return group[c] == c ? c : group[c] = root(group[c]);
+  };
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    const int a = objectOf[E(e, 0)], b = objectOf[E(e, 1)];
+    if (a >= 0 && b >= 0 && root(a) != root(b)) group[root(a)] = root(b);
+  }
+  std::vector<std::vector<int>> grown(candidates);
+  for (int v = 0; v < nV; ++v)
+    if (objectOf[v] >= 0) grown[root(objectOf[v])].push_back(v);
+  std::vector<int> objectIndex(candidates, -1);
+  for (int c = 0; c < candidates; ++c) {
+    if (grown[c].empty()) continue;
+    const double span = angularSpan(mesh.V, grown[c], axis);
+    if (span > options.maxSpan) {
+      ++out.rejectedSeeds;
+      continue;
+    }
+    objectIndex[c] = static_cast<int>(out.objects.size());
+    HeldObject o;
+    o.span = span;
+    out.objects.push_back(o);
+  }
+  for (int v = 0; v < nV; ++v)
+    if (objectOf[v] >= 0) objectOf[v] = objectIndex[root(objectOf[v])];
   for (int v = 0; v < nV; ++v) {
     if (objectOf[v] < 0) continue;
     HeldObject& o = out.objects[objectOf[v]];
@@ -116,6 +141,7 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
     o.centroid += area[v] * mesh.V.row(v).transpose();
     o.maxOffset = std::max(o.maxOffset, offset[v]);
   }
+  if (out.objects.empty()) return out;
   // The object's sides stand on the garment beside it: the offset climbs from that garment's
   // own level by as much as one walks up the side, so the edge found at `edge` lies edge − level
   // up the side, and is moved down by that geodesic distance (exact for sides square on the

@@ -24,8 +24,9 @@ struct HeldObjectOptions {
   // bag held at the hip 6–10 cm.
   double seedOffset = 0.05;
   double minSeedArea = 0.002;  // m²: smaller seeds are a fold or the fit's error, not an object
-  // Degrees: a seed reaching further than this around the body's vertical axis is a garment
-  // hanging free all around (a skirt, the cap under its hem), not an object at one side.
+  // Degrees: an object (its seeds grown to the edge level, those that grow into each other
+  // joined) reaching further than this around the body's vertical axis is a garment hanging
+  // free all around (a skirt, the cap under its hem), not an object at one side.
   double maxSpan = 150;
   // m: the object's edge is where its offset falls to the garments' own level (the median
   // offset of their region points) plus this: a fitted garment's ease varies by a few mm.
@@ -53,7 +54,7 @@ struct HeldObjects {
   // the cut that takes them away.
   Eigen::VectorXd field;
   std::vector<HeldObject> objects;
-  int rejectedSeeds = 0;  // seeds spanning more than maxSpan (free-hanging garments)
+  int rejectedSeeds = 0;  // grown seeds spanning more than maxSpan (free-hanging garments)
   int headSeeds = 0;      // seeds reaching above the ceiling (hair)
 };
 

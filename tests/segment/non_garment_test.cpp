@@ -94,6 +94,19 @@ TEST(HeldObjects, FlareAllAroundIsAGarmentNotAnObject) {
   EXPECT_TRUE((h.field.array() < 0).all());
 }
 
+TEST(HeldObjects, SkirtFarOffOnlyAtFrontAndBackIsAGarment) {
+  // An elliptic flare: 8 cm off the body at the front and back (two seeds), 3 cm at the sides,
+  // where it still stands above the edge level: grown, the seeds join all around.
+  const Clothed c = clothed([](const Vec3& p) {
+    const double a = kBody + 0.03, b = kBody + 0.08;
+    const double e = std::hypot(p.x() / a, p.z() / b) - 1;
+    return std::max({e * a, 0.3 - p.y(), p.y() - 0.4});
+  });
+  const HeldObjects h = findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase);
+  EXPECT_TRUE(h.objects.empty());
+  EXPECT_GE(h.rejectedSeeds, 1);
+}
+
 TEST(HeldObjects, AVolumeReachingTheHeadIsHairNotAnObject) {
   // The box of the first test raised to the head: it reaches above the chin (ceiling).
   const Vec3 lo(0.13, 0.8, -0.05), hi(0.235, 1.0, 0.05);
