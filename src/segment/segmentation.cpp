@@ -1432,7 +1432,9 @@ class Segmenter {
   bool tentativeNoUpper_ = false;
   std::vector<SurfacePoint> upperPoints_;  // projected upper region points (chest and back)
   std::vector<Vec3> footPoints_;  // projected foot region points
-  std::vector<Vec3> regionPositions_[4];  // projected region points by kSkin..kFoot, on the scan
+  // Projected region points by kSkin..kFoot, on the scan; kHair has none (its seeds are not
+  // labelled points and do not vote for pieces).
+  std::vector<Vec3> regionPositions_[5];
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;
   std::unique_ptr<MeshQuery> bodyQuery_;
