@@ -30,8 +30,13 @@ json segmentationSummary(const Segmentation& s) {
                           {"iterations", b.iterations},
                           {"converged", b.converged},
                           {"curves", b.finalCurves.size()}});
+  json held = json::array();
+  for (const HeldObject& o : s.heldObjects)
+    held.push_back({{"area_m2", o.area}, {"max_offset_m", o.maxOffset}});
   return {{"layout", toString(s.layout)},
           {"one_piece", s.layout == GarmentLayout::OnePiece},
+          {"hair_area_m2", s.hairArea},
+          {"held_objects", held},
           {"occlusion", toString(s.occlusion)},
           {"shoes", s.shoes},
           {"garments", garments},

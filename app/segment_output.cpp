@@ -173,7 +173,20 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                         {"completed_area_m2", g.completedArea}});
   json notes = json::array();
   for (const auto& n : s.notes) notes.push_back(n);
+  json held = json::array();
+  for (const HeldObject& o : s.heldObjects) {
+    const Eigen::Vector3d c = toInput * o.centroid;
+    held.push_back({{"area_m2", o.area},
+                    {"max_offset_m", o.maxOffset},
+                    {"centroid", {c.x(), c.y(), c.z()}},
+                    {"span_degrees", o.span},
+                    {"beside_level_m", o.besideLevel},
+                    {"edge_lowered_m", o.lowered}});
+  }
   return {{"segmenter", out.segmenter},
+          {"held_objects", held},
+          {"hair_area_m2", s.hairArea},
+          {"hair_seed_area_m2", s.hairSeedArea},
           {"layout", toString(s.layout)},
           {"occlusion", toString(s.occlusion)},
           {"shoes", s.shoes},

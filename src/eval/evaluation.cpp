@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "core/error.h"
 
 namespace s2p {
@@ -80,13 +82,58 @@ void scoreLabels(const Eigen::VectorXi& truthLabel, const Eigen::VectorXd& truth
       out.garmentLabels.empty() ? 0 : garmentSum / static_cast<double>(out.garmentLabels.size());
 }
 
+namespace {
+
+// Hair and Other when no truth face carries them.
+std::vector<Label> foldedLabels(const Eigen::VectorXi& truthLabel) {
+  std::vector<Label> out;
+  for (Label l : {Label::Hair, Label::Other})
+    if (!(truthLabel.array() == static_cast<int>(l)).any()) out.push_back(l);
+  return out;
+}
+
+// The predicted boundaries with the folded labels read as skin; pairs that become skin|skin go.
+std::vector<TrueBoundary> foldBoundaries(const std::vector<TrueBoundary>& pred,
+                                         const std::vector<Label>& folded) {
+  const auto fold = [&](Label l) {
+    return std::find(folded.begin(), folded.end(), l) != folded.end() ? Label::Skin : l;
+  };
+  std::vector<TrueBoundary> out;
+  for (const TrueBoundary& b : pred) {
+    Label a = fold(b.a), c = fold(b.b);
+    if (a == c) continue;  // hair|skin on a truth without hair: no boundary
+    if (c < a) std::swap(a, c);
+    auto it = std::find_if(out.begin(), out.end(),
+                           [&](const TrueBoundary& t) { return t.a == a && t.b == c; });
+    if (it == out.end()) {
+      out.push_back({a, c, {}, {}});
+      it = out.end() - 1;
+    }
+    it->curves.insert(it->curves.end(), b.curves.begin(), b.curves.end());
+    it->closed.insert(it->closed.end(), b.closed.begin(), b.closed.end());
+  }
+  return out;
+}
+
+}  // namespace
+
 Evaluation evaluate(const EvaluationInput& in, const EvaluationOptions& opt) {
   if (!in.truth || !in.truthMesh || !in.prediction)
     throw InputError("evaluate: the truth, its labelled mesh and the prediction are required");
   Evaluation out;
-  const LabelTransfer transfer = transferLabels(*in.truthMesh, *in.prediction, opt.transfer);
+  LabelTransfer transfer = transferLabels(*in.truthMesh, *in.prediction, opt.transfer);
   out.identityTransfer = transfer.identity;
   out.maxSampleDistance = transfer.maxSampleDistance;
+  // Hair and held objects that the truth does not label (a scan whose maker counted hair as
+  // skin) are scored as the skin they are there; a garment taken for them still loses its area.
+  out.foldedIntoSkin = foldedLabels(in.truthMesh->faceLabel);
+  const int skin = static_cast<int>(Label::Skin);
+  for (Label l : out.foldedIntoSkin) {
+    const int c = static_cast<int>(l);
+    out.foldedArea += transfer.area.col(c).sum();
+    transfer.area.col(skin) += transfer.area.col(c);
+    transfer.area.col(c).setZero();
+  }
   scoreLabels(in.truthMesh->faceLabel, faceAreas(in.truthMesh->mesh), transfer.area,
               in.truth->hasOnePiece(), out);
 
@@ -96,6 +143,11 @@ Evaluation evaluate(const EvaluationInput& in, const EvaluationOptions& opt) {
   if (!pred) {
     extracted = extractLabelBoundaries(*in.prediction);
     pred = &extracted;
+  }
+  std::vector<TrueBoundary> folded;
+  if (!out.foldedIntoSkin.empty()) {
+    folded = foldBoundaries(*pred, out.foldedIntoSkin);
+    pred = &folded;
   }
   for (const TrueBoundary& tb : in.truth->boundaries) {
     if (tb.a == Label::Gap || tb.b == Label::Gap) continue;
@@ -120,6 +172,10 @@ nlohmann::json evaluationToJson(const Evaluation& e) {
   j["garment_labels"] = garments;
   j["mean_garment_iou"] = e.meanGarmentIoU;
   j["gap_area_m2"] = e.gapArea;
+  nlohmann::json folded = nlohmann::json::array();
+  for (Label l : e.foldedIntoSkin) folded.push_back(toString(l));
+  j["scored_as_skin"] = folded;
+  j["scored_as_skin_area_m2"] = e.foldedArea;
   j["unlabelled_area_m2"] = e.unlabelledArea;
   j["identity_transfer"] = e.identityTransfer;
   j["max_sample_distance_mm"] = 1e3 * e.maxSampleDistance;
@@ -163,6 +219,13 @@ std::string formatEvaluation(const Evaluation& e) {
   s += fmt::format("mean IoU {:.3f}; garments ({}) {:.3f}\n", e.meanIoU,
                    names.empty() ? "none" : names, e.meanGarmentIoU);
   if (e.gapArea > 0) s += fmt::format("gap faces left out: {:.4f} m²\n", e.gapArea);
+  if (e.foldedArea > 0) {
+    std::string names;
+    for (Label l : e.foldedIntoSkin)
+      names += (names.empty() ? "" : ", ") + std::string(toString(l));
+    s += fmt::format("predicted {} not in the truth, scored as skin: {:.4f} m²\n", names,
+                     e.foldedArea);
+  }
   if (e.unlabelledArea > 0)
     s += fmt::format("truth area the prediction does not cover: {:.4f} m²\n", e.unlabelledArea);
   s += fmt::format("\nboundaries (mm; predicted curves from {})\n",

@@ -45,6 +45,10 @@ struct Evaluation {
   std::vector<Label> garmentLabels;       // upper and lower present in the truth (one-piece: upper)
   double meanGarmentIoU = 0;              // over garmentLabels
   double gapArea = 0;                     // m², truth Gap faces left out of every IoU
+  // Hair and Other when the truth has no face of them (its maker labelled them skin): the
+  // prediction's area and boundaries of these labels are scored as skin.
+  std::vector<Label> foldedIntoSkin;
+  double foldedArea = 0;                  // m² of predicted area so scored
   double unlabelledArea = 0;              // m², truth area the prediction does not cover
   bool identityTransfer = false;          // the prediction was on the truth mesh itself
   double maxSampleDistance = 0;           // m, prediction → truth surface (0 for the identity)
@@ -62,9 +66,10 @@ struct Evaluation {
 void scoreLabels(const Eigen::VectorXi& truthLabel, const Eigen::VectorXd& truthArea,
                  const Eigen::MatrixXd& predArea, bool onePiece, Evaluation& out);
 
-// All metrics. Missing required inputs or invalid meshes → InputError; a prediction not on the
-// truth surface → InputError (transferLabels); a true boundary without prediction is reported
-// missing.
+// All metrics (hair and held objects the truth does not label are scored as skin, see
+// Evaluation::foldedIntoSkin). Missing required inputs or invalid meshes → InputError; a
+// prediction not on the truth surface → InputError (transferLabels); a true boundary without
+// prediction is reported missing.
 Evaluation evaluate(const EvaluationInput& input, const EvaluationOptions& options = {});
 
 // Machine-readable form: lengths and distances in mm, areas in m².

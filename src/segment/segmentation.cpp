@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -448,16 +449,23 @@ class Segmenter {
     decideLayout(out);
     if (!tentativeNoUpper_) pruneLowerModel(out);
     LabelAreas labels(scan_.numVertices(), scan_.numFaces());
+    Stage current = root_;
+    // A held object first: its features (a hip point landing on a bag) drop out with it.
+    if (options_.heldObjects && hasGeometry()) cutHeldObjects(current, out, labels);
     bool hasUpper = out.layout != GarmentLayout::LowerOnly;
+    if (options_.hair && hasUpper) fitHairModel(out);
     const bool hasLower = out.layout != GarmentLayout::UpperOnly;
     const Label upperLabel = Label::Upper;
     const Label lowerLabel = out.layout == GarmentLayout::OnePiece ? Label::Upper : Label::Lower;
 
-    Stage current = root_;
-    // B(U|S): head and hands are cut away.
+    // B(U|S): head and hands are cut away, and the hair with them.
     if (hasUpper) {
       BoundaryJob job{&upperSkin_,         {kSkin, kUpper}, {true, false},
                       options_.gapFilling, upperLabel,      Label::Skin};
+      if (hairModel_) {
+        job.regions.push_back(kHair);
+        job.positive.push_back(true);
+      }
       job.deltaE = separation(kUpper, kSkin);
       job.offsetRegion = kUpper;
       // A torso of this person's skin colour lying near the body: the geometry alone finds the
@@ -472,8 +480,10 @@ class Segmenter {
         // A top found this way keeps the lower model whole: pruned against the top's model (this
         // person's skin colour), B(L|S) came off the shoes' edge (skin_tone_top: lower|shoes
         // 6.2 mm mean against 1.0 unpruned; upper|lower 0.7 against 2.7 mm).
+        labelSkinSide(childStage(current, cut.positive), run.result.boundary, run.report, labels,
+                      out);
         out.boundaries.push_back(run.report);
-        labels.add(childStage(current, cut.positive), Label::Skin);
+        if (hairReport_) out.boundaries.push_back(*hairReport_);
         current = childStage(current, cut.negative);
       }
     }
@@ -508,7 +518,7 @@ class Segmenter {
       const Eigen::VectorXi footVertex = skinOrShoes(feet, out.shoes);
       const Eigen::VectorXi footFace = faceLabelsFromVertices(feet.mesh, footVertex);
       labels.add(feet, Label::Skin, &footFace, &footVertex);
-      splitByOtherLabel(run.report, run.result.boundary, feet, footVertex);
+      splitByLabel(run.report, run.result.boundary, feet.mesh.V, footVertex);
       out.boundaries.push_back(run.report);
       current = childStage(current, cut.negative);
     } else {
@@ -524,6 +534,14 @@ class Segmenter {
     }
     out.faceLabel = labels.faceLabels();
     out.vertexLabel = labels.vertexLabels(scan_, out.faceLabel);
+    if (heldReport_) {
+      // The objects' edge split where the garment beside it changes (a bag over the waist).
+      Eigen::VectorXi beside = out.vertexLabel;
+      for (int v = 0; v < beside.size(); ++v)
+        if (beside[v] == static_cast<int>(Label::Other)) beside[v] = -1;
+      splitByLabel(*heldReport_, heldBoundary_, scan_.V, beside);
+      out.boundaries.insert(out.boundaries.begin(), *heldReport_);
+    }
     out.regionPoints = regionPoints_;
     out.droppedRegionPoints = droppedRegionPoints_;
     for (const std::string& n : skipNotes_) out.notes.push_back(n);
@@ -539,6 +557,7 @@ class Segmenter {
 
  private:
   static constexpr int kSkin = 0, kUpper = 1, kLower = 2, kFoot = 3;
+  static constexpr int kHair = 4;  // colours_.models[kHair]: fitted from hair seeds when found
   // A body loop farther than this fraction of the height from the scan (median over its
   // anchors) is a limb the scan does not have (projectCurve).
   static constexpr double kLimbMissingFraction = 0.05;
@@ -1154,46 +1173,51 @@ class Segmenter {
     return run;
   }
 
-  // B(L|S) borders skin or shoes: the reported curves are split where the label of the
-  // cut-away side changes, so each piece carries its true label pair.
-  void splitByOtherLabel(BoundaryReport& rep, const Isoline& iso, const Stage& feet,
-                         const Eigen::VectorXi& footVertex) const {
-    // Each boundary point takes the majority label of the cut-away vertices within kReach: the
-    // vertices right at the boundary carry colours smoothed across it (khaki and black make a
-    // skin-like brown).
+  // A boundary beside cut-away parts of several labels (B(L|S): skin or shoes; B(U|S): skin or
+  // hair; a held object's edge: the garments beside it): the reported curves are split where the
+  // label beyond them changes, so each piece carries its true label pair. V: #N×3 positions of
+  // the vertices on that side, label: #N codes (< 0: not counted).
+  static void splitByLabel(BoundaryReport& rep, const Isoline& iso, const Eigen::MatrixX3d& V,
+                           const Eigen::VectorXi& label) {
+    // Each boundary point takes the majority label of the vertices within kReach (ties: the
+    // report's own `other`): the vertices right at the boundary carry colours smoothed across it
+    // (khaki and black make a skin-like brown).
     constexpr double kReach = 0.03;  // m
     rep.otherLabels.clear();
     rep.finalCurves.clear();
     rep.finalClosed.clear();
     for (const IsolineCurve& c : iso.curves) {
-      std::vector<int> label;
+      std::vector<int> pointLabel;
       for (const IsolinePoint& p : c.points) {
-        int shoes = 0, skin = 0;
-        for (int v = 0; v < feet.mesh.numVertices(); ++v)
-          if ((feet.mesh.V.row(v).transpose() - p.position).squaredNorm() < kReach * kReach)
-            (footVertex[v] == static_cast<int>(Label::Shoes) ? shoes : skin)++;
-        label.push_back(static_cast<int>(shoes > skin ? Label::Shoes : Label::Skin));
+        std::array<int, kNumLabels> count{};
+        for (int v = 0; v < V.rows(); ++v)
+          if (label[v] >= 0 && (V.row(v).transpose() - p.position).squaredNorm() < kReach * kReach)
+            ++count[label[v]];
+        int best = static_cast<int>(rep.other);
+        for (int l = 0; l < kNumLabels; ++l)
+          if (count[l] > count[best]) best = l;
+        pointLabel.push_back(best);
       }
       // Runs of one label; a closed curve of one label stays closed.
       const size_t n = c.points.size();
       bool uniform = true;
-      for (size_t i = 1; i < n; ++i) uniform &= label[i] == label[0];
+      for (size_t i = 1; i < n; ++i) uniform &= pointLabel[i] == pointLabel[0];
       if (uniform || n < 2) {
         Eigen::MatrixX3d P(static_cast<int>(n), 3);
         for (size_t i = 0; i < n; ++i) P.row(static_cast<int>(i)) = c.points[i].position;
         rep.finalCurves.push_back(P);
         rep.finalClosed.push_back(c.closed);
-        rep.otherLabels.push_back(static_cast<Label>(n ? label[0] : 0));
+        rep.otherLabels.push_back(n ? static_cast<Label>(pointLabel[0]) : rep.other);
         continue;
       }
       size_t start = 0;  // begin at a label change so that no run wraps around
       if (c.closed)
-        while (label[start] == label[(start + n - 1) % n]) ++start;
+        while (pointLabel[start] == pointLabel[(start + n - 1) % n]) ++start;
       size_t i = 0;
       while (i < n) {
         std::vector<Vec3> run;
-        const int l = label[(start + i) % n];
-        while (i < n && label[(start + i) % n] == l)
+        const int l = pointLabel[(start + i) % n];
+        while (i < n && pointLabel[(start + i) % n] == l)
           run.push_back(c.points[(start + i++) % n].position);
         if (i < n || c.closed)
           run.push_back(c.points[(start + i) % n].position);  // join the next run
@@ -1204,6 +1228,149 @@ class Segmenter {
         rep.otherLabels.push_back(static_cast<Label>(l));
       }
     }
+  }
+
+  // === Held objects and hair (segment/non_garment.h)
+
+  // Objects held against the body (a bag) cut off `current` along their edge and labelled
+  // Other; the edge is reported once the garments beside it are known (run).
+  void cutHeldObjects(Stage& current, Segmentation& out, LabelAreas& labels) {
+    Vec3 axis = Vec3::Zero();
+    int n = 0;
+    for (int r : {kUpper, kLower})
+      for (const Vec3& p : regionPositions_[r]) axis += p, ++n;
+    if (n == 0) return;
+    axis /= n;
+    double level = 0;
+    for (int r : {kUpper, kLower})
+      if (std::isfinite(regionOffset_[r])) level = std::max(level, regionOffset_[r]);
+    double chin = std::numeric_limits<double>::infinity();
+    for (const Vec3& p : facePoints()) chin = std::min(chin, p.y());
+    const HeldObjects held =
+        findHeldObjects(current.mesh, current.smoothOffset, axis, level, options_.held, chin);
+    if (held.rejectedSeeds > 0)
+      out.notes.push_back(fmt::format(
+          "{} part(s) of the scan more than {:.0f} mm off the body hang all around it (more than "
+          "{:.0f}°): a garment hanging free, not a held object",
+          held.rejectedSeeds, 1000 * options_.held.seedOffset, options_.held.maxSpan));
+    if (held.objects.empty()) return;
+    const CutResult cut = cutAlongIsoline(current.mesh, awayFromZero(held.field, current.mesh));
+    labels.add(childStage(current, cut.positive), Label::Other);
+    BoundaryReport rep;
+    rep.name = "held";
+    rep.garment = Label::Other;
+    rep.other = Label::Upper;
+    rep.converged = true;
+    heldReport_ = rep;
+    heldBoundary_ = cut.isoline;
+    out.heldObjects = held.objects;
+    for (const HeldObject& o : held.objects)
+      out.notes.push_back(fmt::format(
+          "held object cut away (labelled other): {:.3f} m² standing up to {:.0f} mm off the body "
+          "under the clothes at ({:.2f}, {:.2f}, {:.2f}) m, {:.0f}° around the body; its edge where "
+          "the offset falls to {:.0f} mm (the garments' {:.0f} mm + {:.0f})",
+          o.area, 1000 * o.maxOffset, o.centroid.x(), o.centroid.y(), o.centroid.z(), o.span,
+          1000 * (level + options_.held.edgeMargin), 1000 * level,
+          1000 * options_.held.edgeMargin));
+    current = childStage(current, cut.negative);
+  }
+
+  // The face's region points: the skin points within a head's reach of the highest (not the
+  // hands, wherever the arms are).
+  std::vector<Vec3> facePoints() const {
+    constexpr double kHead = 0.3;  // m
+    const std::vector<Vec3>& skin = regionPositions_[kSkin];
+    std::vector<Vec3> out;
+    if (skin.empty()) return out;
+    const Vec3 top = *std::max_element(skin.begin(), skin.end(),
+                                       [](const Vec3& a, const Vec3& b) { return a.y() < b.y(); });
+    for (const Vec3& p : skin)
+      if ((p - top).norm() < kHead) out.push_back(p);
+    return out;
+  }
+
+  // A colour model of the hair, from the head's scan that is not this person's skin (hairSeeds),
+  // unless it has the top's colours (hair and a top of one colour are not told apart by it).
+  void fitHairModel(Segmentation& out) {
+    const std::vector<Vec3> face = facePoints();
+    const SkinModel skin =
+        fitSkinModel(colours_.colours[kSkin], options_.skinSpreadFactor, options_.minSkinDeltaE,
+                     options_.sameColourDeltaE);
+    const std::vector<int> seeds =
+        hairSeeds(scan_, colours_.lab, face, skin, options_.hairOptions);
+    if (seeds.empty()) return;
+    const Eigen::VectorXd area = vertexAreas(scan_);
+    Eigen::MatrixX3d lab(static_cast<int>(seeds.size()), 3);
+    for (size_t i = 0; i < seeds.size(); ++i) {
+      lab.row(static_cast<int>(i)) = colours_.lab.row(seeds[i]);
+      out.hairSeedArea += area[seeds[i]];
+    }
+    const Vec3 mean = lab.colwise().mean().transpose();
+    const auto medianFrom = [&](const Eigen::MatrixX3d& from, const Vec3& to) {
+      std::vector<double> d;
+      for (int i = 0; i < from.rows(); ++i) d.push_back(deltaE2000(from.row(i).transpose(), to));
+      return median(d);
+    };
+    const double fromUpper = std::max(medianFrom(lab, colours_.means[kUpper]),
+                                      medianFrom(colours_.colours[kUpper], mean));
+    if (fromUpper < options_.sameColourDeltaE) {
+      out.notes.push_back(fmt::format(
+          "hair not labelled: the head's {:.3f} m² not of this person's skin has the upper "
+          "garment's colour (ΔE {:.1f})",
+          out.hairSeedArea, fromUpper));
+      return;
+    }
+    hairModel_ = fitGaussianMixture(lab, options_.colour.gmm);
+    Vec3 centre = Vec3::Zero();
+    for (const Vec3& p : face) centre += p;
+    headCentre_ = centre / static_cast<double>(face.size());
+    colours_.models.push_back(*hairModel_);
+    colours_.colours.push_back(lab);
+    colours_.means.push_back(mean);
+  }
+
+  // The skin side of B(U|S) split into hair and bare skin (hairField), cut exactly along the
+  // hair's edge; B(U|S)'s curves split into upper|skin and upper|hair, the hair's edge on the
+  // skin reported as S|H. Without a hair model all of it is skin.
+  void labelSkinSide(const Stage& skin, const Isoline& boundary, BoundaryReport& rep,
+                     LabelAreas& labels, Segmentation& out) {
+    if (!hairModel_ || skin.mesh.numFaces() == 0) {
+      labels.add(skin, Label::Skin);
+      return;
+    }
+    // The face's region points reach the fringe: the skin model's component of hair goes.
+    const GaussianMixture bare =
+        withoutBorrowedComponents(colours_.models[kSkin], *hairModel_, 0.5);
+    Eigen::VectorXd phi =
+        hairField(skin.mesh, skin.lab, *hairModel_, bare, headCentre_, options_.hairOptions);
+    removeIslands(skin.mesh, phi, options_.minRegionArea, {});
+    if (!(phi.array() >= 0).any() || !(phi.array() < 0).any()) {
+      const bool all = (phi.array() >= 0).any();
+      labels.add(skin, all ? Label::Hair : Label::Skin);
+      if (all) out.hairArea = surfaceArea(skin.mesh);
+      return;
+    }
+    const CutResult cut = cutAlongIsoline(skin.mesh, awayFromZero(phi, skin.mesh));
+    const Stage hair = childStage(skin, cut.positive);
+    labels.add(hair, Label::Hair);
+    labels.add(childStage(skin, cut.negative), Label::Skin);
+    out.hairArea = surfaceArea(hair.mesh);
+    Eigen::VectorXi side(skin.mesh.numVertices());
+    for (int v = 0; v < side.size(); ++v)
+      side[v] = static_cast<int>(phi[v] >= 0 ? Label::Hair : Label::Skin);
+    splitByLabel(rep, boundary, skin.mesh.V, side);
+    BoundaryReport h;
+    h.name = "S|H";
+    h.garment = Label::Hair;
+    h.other = Label::Skin;
+    h.converged = true;
+    h.finalCurves = curvePolylines(cut.isoline, h.finalClosed);
+    h.otherLabels.assign(h.finalCurves.size(), Label::Skin);
+    hairReport_ = h;
+    out.notes.push_back(fmt::format(
+        "hair labelled: {:.3f} m² cut away with the skin by B(U|S) (its colour model from {:.3f} "
+        "m² of the head not of this person's skin)",
+        out.hairArea, out.hairSeedArea));
   }
 
   // B(U|L) and §5.3: occlusion from where the optimised waist lies against the initial one.
@@ -1354,7 +1521,9 @@ class Segmenter {
   bool tentativeNoUpper_ = false;
   std::vector<SurfacePoint> upperPoints_;  // projected upper region points (chest and back)
   std::vector<Vec3> footPoints_;  // projected foot region points
-  std::vector<Vec3> regionPositions_[4];  // projected region points by kSkin..kFoot, on the scan
+  // Projected region points by kSkin..kFoot, on the scan; kHair has none (its seeds are not
+  // labelled points and do not vote for pieces).
+  std::vector<Vec3> regionPositions_[5];
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;
   std::unique_ptr<MeshQuery> bodyQuery_;
@@ -1362,6 +1531,11 @@ class Segmenter {
   std::vector<std::string> skipNotes_;        // boundaries skipped (optimiseAndCut)
   std::vector<std::string> pieceNotes_;  // pieces sent to the side their region points say
   std::vector<std::string> geometryNotes_;    // boundaries the geometric cues joined
+  std::optional<GaussianMixture> hairModel_;  // fitted from the hair seeds (fitHairModel)
+  Vec3 headCentre_ = Vec3::Zero();            // mean of the face's region points
+  std::optional<BoundaryReport> hairReport_;  // S|H, the hair's edge on the skin
+  std::optional<BoundaryReport> heldReport_;  // the held objects' edge, split once labelled
+  Isoline heldBoundary_;
 };
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "segment/boundary_optimizer.h"
 #include "segment/colour_model.h"
 #include "segment/mrf.h"
+#include "segment/non_garment.h"
 #include "segment/projection.h"
 
 namespace s2p {
@@ -76,6 +77,12 @@ struct SegmentationOptions {
   // The step and offset cues (segment/body_offset.h), used when segmentScan is given the body
   // fitted under the clothes.
   GeometricCueOptions geometry;
+  // Held objects (a bag), found with the body under the clothes and cut away before B(U|S),
+  // labelled Other; hair, cut away with the skin by B(U|S), labelled Hair (segment/non_garment.h).
+  bool heldObjects = true;
+  HeldObjectOptions held;
+  bool hair = true;
+  HairOptions hairOptions;
   // §5.3: the optimised waist boundary is "close to" the initial one when its mean height
   // differs by less than this (m); otherwise the garment on the lower side is occluded.
   double occlusionShift = 0.03;
@@ -145,6 +152,9 @@ struct Segmentation {
   double upperOffset = 0, lowerOffset = 0;
   double skinOffset = 0;  // ... and of the skin region points (face and hands)
   bool geometricCues = false;  // the step and offset cues were used
+  std::vector<HeldObject> heldObjects;  // cut away before B(U|S), labelled Other
+  double hairArea = 0;      // m² labelled Hair (cut away with the skin by B(U|S))
+  double hairSeedArea = 0;  // m² of the head whose colour is not this person's skin
   int regionPoints = 0, droppedRegionPoints = 0;
   double seconds = 0;
   std::vector<std::string> notes;  // what was detected or skipped, for the report

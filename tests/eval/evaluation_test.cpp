@@ -184,6 +184,33 @@ TEST(Evaluation, GapFacesAreIgnored) {
   EXPECT_NEAR(results[0].label(Label::Skin)->iou, 0.4 / 0.42, 1e-9);
 }
 
+TEST(Evaluation, HairTheTruthDoesNotLabelIsScoredAsSkin) {
+  // Truth: skin below 0.5, upper above (its maker counted hair as skin). The prediction labels
+  // the bottom tenth hair and reports the upper|hair part of the boundary as its own pair.
+  const Case c;
+  LabelledMesh pred = c.truthMesh;
+  for (int f = 0; f < pred.mesh.numFaces(); ++f)
+    if (test::faceCentroid(pred.mesh, f).y() < 0.1)
+      pred.faceLabel(f) = static_cast<int>(Label::Hair);
+  std::vector<TrueBoundary> curves = c.truth.boundaries;
+  curves[0].a = Label::Upper;
+  curves[0].b = Label::Hair;
+  const Evaluation e = c.run(pred, &curves);
+  EXPECT_EQ(e.foldedIntoSkin, (std::vector<Label>{Label::Hair, Label::Other}));
+  EXPECT_NEAR(e.foldedArea, test::polygonPerimeter(c.spec) * 0.1, 1e-9);
+  EXPECT_DOUBLE_EQ(e.label(Label::Skin)->iou, 1.0);
+  EXPECT_EQ(e.label(Label::Hair), nullptr);
+  ASSERT_EQ(e.boundaries.size(), 1u);
+  EXPECT_FALSE(e.boundaries[0].missing);  // upper|hair read as upper|skin
+  EXPECT_NEAR(e.boundaries[0].pooled.p95, 0, 1e-9);
+  // A truth with hair scores it as its own label.
+  Case withHair;
+  withHair.truthMesh = pred;
+  const Evaluation h = withHair.run(pred);
+  EXPECT_EQ(h.foldedIntoSkin, std::vector<Label>{Label::Other});
+  EXPECT_DOUBLE_EQ(h.label(Label::Hair)->iou, 1.0);
+}
+
 TEST(Evaluation, MissingPredictedBoundaryIsReportedNotZero) {
   Case c;
   // Truth: skin | upper at 0.5 and upper | lower at 0.8; the prediction has no lower label.
