@@ -209,8 +209,10 @@ void writeRun(const fs::path& dir, const LoadedScan& scan, const BodyModel& mode
   // The folders' writers read the run and write files of their own, mostly pictures and PDFs
   // drawn on one thread each: they run side by side (on a 50k scan, 3.3 s one after another).
   // Each folder is made first, so that no two writers race to create it.
-  for (const char* sub : {"fit", "segment", "pattern"})
-    if (!early || std::string(sub) == "pattern") fs::create_directories(dir / sub);
+  // fit/ and segment/ are the early writers' when there are some.
+  fs::create_directories(dir / "pattern");
+  if (!early)
+    for (const char* sub : {"fit", "segment"}) fs::create_directories(dir / sub);
   // Each writer runs as a task that keeps its own copy of what to call and where its error goes.
   const auto guarded = [](std::exception_ptr* error, std::function<void()> write) {
     return [error, write = std::move(write)] {
