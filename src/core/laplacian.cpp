@@ -146,6 +146,25 @@ Eigen::VectorXd vertexAreas(const TriMesh& mesh, MassType type) {
   return area;
 }
 
+double medianAbs(const Eigen::VectorXd& x) {
+  if (x.size() == 0) return 0.0;
+  std::vector<double> a(static_cast<size_t>(x.size()));
+  for (Eigen::Index i = 0; i < x.size(); ++i) a[static_cast<size_t>(i)] = std::abs(x[i]);
+  const auto mid = a.begin() + static_cast<std::ptrdiff_t>(a.size() / 2);
+  std::nth_element(a.begin(), mid, a.end());
+  return *mid;
+}
+
+Eigen::VectorXd bilaplacianWeights(const Eigen::VectorXd& area, double floorFraction) {
+  const double median = medianAbs(area);
+  if (!(median > 0))
+    throw InputError(fmt::format("bilaplacianWeights: the median of {} vertex areas is {} (an "
+                                 "empty or degenerate mesh)",
+                                 area.size(), median));
+  const double floor = std::max(floorFraction, 0.0) * median;
+  return area.unaryExpr([floor](double a) { return 1.0 / std::max(a, floor); });
+}
+
 Eigen::SparseMatrix<double> massMatrix(const TriMesh& mesh, MassType type) {
   const Eigen::VectorXd a = vertexAreas(mesh, type);
   Eigen::SparseMatrix<double> M(a.size(), a.size());

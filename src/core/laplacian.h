@@ -39,6 +39,16 @@ Eigen::SparseMatrix<double> gradientOperator(const TriMesh& mesh);
 Eigen::SparseMatrix<double> laplacianSquared(const Eigen::SparseMatrix<double>& L,
                                              const Eigen::VectorXd& weight);
 
+// The weights of the bilaplacian L M⁻¹ L: 1 / the lumped vertex area, each area taken at least
+// `floorFraction` × the median vertex area. A sliver an exact cut leaves (1e-10 m² beside
+// 4e-5 m²) would otherwise weigh 1e5× its neighbours in ∫(Δu)² and set the operator's scale.
+// Throws InputError for an empty `area` or a non-positive median.
+Eigen::VectorXd bilaplacianWeights(const Eigen::VectorXd& area, double floorFraction = 1e-2);
+
+// The median of |x|: a scale for a matrix's diagonal that no single outlier entry sets (the
+// mean of a bilaplacian's diagonal can be 1e7× its median on a scanned mesh). 0 when x is empty.
+double medianAbs(const Eigen::VectorXd& x);
+
 // Integrated divergence of a per-face vector field (same stacking as the gradient), #V×(3#F):
 // div = −Gᵀ·diag(A, A, A) with A the face areas, so that div·G = −L (the weak Laplacian Δ).
 Eigen::SparseMatrix<double> divergenceOperator(const TriMesh& mesh);

@@ -38,9 +38,10 @@ Eigen::MatrixX3d biharmonicDeformation(const TriMesh& mesh, const std::vector<in
   const Eigen::SparseMatrix<double> L = cotanLaplacian(mesh);
   const Eigen::VectorXd area = vertexAreas(mesh);
   const Eigen::SparseMatrix<double> Q =
-      laplacianSquared(L, area.cwiseInverse());  // ∫(Δu)² with the lumped mass
-  // Q_ff d_f = −Q_fc d_c; a tiny mass term keeps free islands without constraints at rest.
-  const double eps = 1e-10 * Q.diagonal().cwiseAbs().mean();
+      laplacianSquared(L, bilaplacianWeights(area));  // ∫(Δu)² with the lumped mass
+  // Q_ff d_f = −Q_fc d_c; a tiny mass term keeps free islands without constraints at rest. Its
+  // scale is the diagonal's median, which no sliver sets (biharmonic.cpp says why).
+  const double eps = 1e-10 * medianAbs(Q.diagonal());
   const ReducedSystem system(Q, known);
   Eigen::SparseMatrix<double> A = system.freeBlock();
   Eigen::SparseMatrix<double> I(A.rows(), A.cols());

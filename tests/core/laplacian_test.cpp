@@ -219,5 +219,17 @@ TEST(Laplacian, LaplacianSquaredIsTheProductLWL) {
   EXPECT_THROW(laplacianSquared(L, Eigen::VectorXd::Ones(3)), InputError);
 }
 
+TEST(Laplacian, BilaplacianWeightsFloorSliversAtAFractionOfTheMedianArea) {
+  Eigen::VectorXd area(5);
+  area << 4e-5, 1e-10, 2e-5, 3e-5, 5e-5;  // median 3e-5
+  EXPECT_DOUBLE_EQ(medianAbs(area), 3e-5);
+  const Eigen::VectorXd w = bilaplacianWeights(area, 0.01);
+  EXPECT_DOUBLE_EQ(w[0], 1 / 4e-5);
+  EXPECT_DOUBLE_EQ(w[1], 1 / 3e-7);  // the sliver weighs as 1 % of the median
+  EXPECT_DOUBLE_EQ(w[4], 1 / 5e-5);
+  EXPECT_DOUBLE_EQ(medianAbs(Eigen::VectorXd()), 0.0);
+  EXPECT_THROW(bilaplacianWeights(Eigen::VectorXd::Zero(3)), InputError);
+}
+
 }  // namespace
 }  // namespace s2p

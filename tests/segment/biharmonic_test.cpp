@@ -138,6 +138,44 @@ TEST(Biharmonic, ThreeDisconnectedPiecesSolveEachOnItsOwn) {
   EXPECT_TRUE(b.lastStats().refactored);
 }
 
+// An exact cut that passes a hair's breadth from a row of vertices leaves a strip of slivers
+// along the new border (vertex areas 1e-10 m² beside 1e-4 m²). The solution elsewhere must not
+// notice: the operator's scale (regularisation, penalty) is the diagonal's median and each
+// vertex weighs at least 1 % of the median vertex area.
+// With its mean the strip screened the solution, which died out ~10 cm from each constraint
+// (jacket_layered's trousers: a crotch seam function ~0 along both legs, 13 panels for 4).
+TEST(Biharmonic, ASliverStripAlongTheBorderLeavesTheSolutionAsItWas) {
+  const int rings = 40, segments = 40;
+  const double r = 0.1, step = 1.0 / rings;
+  // The reference: rings 1..40 of a unit cylinder. The same with a ring 1e-7 m below its
+  // bottom ring: a strip of slivers along the border.
+  TriMesh clean = makeCylinder(rings - 1, segments, r, 1.0 - step);
+  clean.V.col(1).array() += step;
+  TriMesh slivers = makeCylinder(rings, segments, r, 1.0);
+  for (int i = 0; i < segments; ++i) slivers.V(i, 1) = step - 1e-7;
+  const MeshQuery q(clean);
+  std::vector<ValueConstraint> onClean, onSlivers;
+  for (int i = 0; i < 6; ++i)
+    for (const auto& [y, value] : {std::pair{0.9, 1.0}, std::pair{0.6, -1.0}}) {
+      const double a = 2 * M_PI * (i + 0.25) / 6;
+      ValueConstraint k = at(q, {r * std::cos(a), y, r * std::sin(a)}, value);
+      onClean.push_back(k);
+      k.point.face += 2 * segments;  // the same face one ring up
+      onSlivers.push_back(k);
+    }
+  const Eigen::VectorXd a = biharmonicFunction(clean, onClean),
+                        b = biharmonicFunction(slivers, onSlivers);
+  // Between the constraint rings the two agree; below them each extrapolates by its own border
+  // (the strip's ring shifts the bottom's natural condition: −2.6 against −3.1 at y = 0.025).
+  double largest = 0;
+  for (int v = 0; v < clean.numVertices(); ++v)
+    if (clean.V(v, 1) >= 0.6) largest = std::max(largest, std::abs(a[v] - b[v + segments]));
+  EXPECT_LT(largest, 0.03);
+  // The solution carries on past the −1 ring (a smooth extrapolation, not a decay to 0). With
+  // the mean as the scale the strip made the system indefinite (the factorisation failed).
+  for (int v = 0; v < segments; ++v) EXPECT_LT(b[segments + v], -2.0) << v;
+}
+
 TEST(Biharmonic, BadConstraintsThrowInputError) {
   const TriMesh s = makeIcosphere(1);
   Biharmonic b(s);
