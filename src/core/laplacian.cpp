@@ -158,9 +158,10 @@ double medianAbs(const Eigen::VectorXd& x) {
 Eigen::VectorXd bilaplacianWeights(const Eigen::VectorXd& area, double floorFraction) {
   const double median = medianAbs(area);
   if (!(median > 0))
-    throw InputError(fmt::format("bilaplacianWeights: the median of {} vertex areas is {} (an "
-                                 "empty or degenerate mesh)",
-                                 area.size(), median));
+    throw InputError(
+        fmt::format("bilaplacianWeights: the median of {} vertex areas is {} (an "
+                    "empty or degenerate mesh)",
+                    area.size(), median));
   const double floor = std::max(floorFraction, 0.0) * median;
   return area.unaryExpr([floor](double a) { return 1.0 / std::max(a, floor); });
 }

@@ -1,6 +1,5 @@
 #include "segment/biharmonic.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
