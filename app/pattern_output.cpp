@@ -5,9 +5,9 @@
 #include "app/commands.h"
 #include "export/pattern_sheet.h"
 #include "export/png.h"
-#include "pattern/grain_frame.h"
 #include "export/preview.h"
 #include "io/write_mesh.h"
+#include "pattern/grain_frame.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -15,7 +15,9 @@ using nlohmann::json;
 namespace s2p::app {
 namespace {
 
-Eigen::Vector3d toFrame(const Eigen::Affine3d& t, const Eigen::Vector3d& p) { return t * p; }
+Eigen::Vector3d toFrame(const Eigen::Affine3d& t, const Eigen::Vector3d& p) {
+  return t * p;
+}
 
 json point(const Eigen::Affine3d& t, const Eigen::Vector3d& p) {
   const Eigen::Vector3d q = toFrame(t, p);
@@ -28,12 +30,24 @@ Rgb panelColour(int i) {
   const double x = 1 - std::abs(std::fmod(h, 2) - 1);
   double r = 0, g = 0, b = 0;
   switch (static_cast<int>(h)) {
-    case 0: r = 1, g = x; break;
-    case 1: r = x, g = 1; break;
-    case 2: g = 1, b = x; break;
-    case 3: g = x, b = 1; break;
-    case 4: r = x, b = 1; break;
-    default: r = 1, b = x; break;
+    case 0:
+      r = 1, g = x;
+      break;
+    case 1:
+      r = x, g = 1;
+      break;
+    case 2:
+      g = 1, b = x;
+      break;
+    case 3:
+      g = x, b = 1;
+      break;
+    case 4:
+      r = x, b = 1;
+      break;
+    default:
+      r = 1, b = x;
+      break;
   }
   const auto c = [](double v) { return static_cast<std::uint8_t>(60 + 170 * v); };
   return {c(r), c(g), c(b)};
@@ -47,8 +61,11 @@ json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput) {
     json panels = json::array(), openings = json::array(), seams = json::array();
     for (int p : g.panels) panels.push_back(r.panels[p].name);
     for (const Opening& o : g.openings)
-      openings.push_back({{"name", o.name}, {"limb", toString(o.limb)}, {"place_on_limb", o.t},
-                          {"length_m", o.length}, {"centroid", point(toInput, o.centroid)}});
+      openings.push_back({{"name", o.name},
+                          {"limb", toString(o.limb)},
+                          {"place_on_limb", o.t},
+                          {"length_m", o.length},
+                          {"centroid", point(toInput, o.centroid)}});
     for (const SeamLine& s : g.seams) {
       json curves = json::array();
       for (const IsolineCurve& c : s.line.curves) {
@@ -89,12 +106,9 @@ json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput) {
     for (size_t e = 0; e < p.edges.size(); ++e) {
       const PanelEdge& edge = p.edges[e];
       corners.push_back(point(toInput, p.mesh.V.row(edge.vertices.front()).transpose()));
-      json j = {{"name", edge.name},
-                {"kind", edge.opening ? "opening" : "seam"},
-                {"from_corner", e},
-                {"to_corner", (e + 1) % p.edges.size()},
-                {"length_m", edge.length},
-                {"vertices", edge.vertices.size()}};
+      json j = {{"name", edge.name},       {"kind", edge.opening ? "opening" : "seam"},
+                {"from_corner", e},        {"to_corner", (e + 1) % p.edges.size()},
+                {"length_m", edge.length}, {"vertices", edge.vertices.size()}};
       if (!edge.opening && edge.partnerPanel >= 0)
         j["partner"] = {{"panel", r.panels[edge.partnerPanel].name},
                         {"panel_index", edge.partnerPanel},
@@ -168,8 +182,8 @@ void writePanels(const fs::path& dir, const Scan& scan, const PanelsResult& r) {
       Eigen::MatrixX3d P(static_cast<int>(e.vertices.size()), 3);
       for (size_t k = 0; k < e.vertices.size(); ++k)
         P.row(static_cast<int>(k)) = meshes[i].V.row(e.vertices[k]);
-      scene.lines.push_back({P, e.name == "cut" ? Rgb{200, 0, 200} : Rgb{20, 20, 20}, 2.5f, false,
-                             false});
+      scene.lines.push_back(
+          {P, e.name == "cut" ? Rgb{200, 0, 200} : Rgb{20, 20, 20}, 2.5f, false, false});
     }
   }
   RenderOptions ro;
@@ -192,7 +206,9 @@ void printPanels(const PanelsResult& r) {
 
 namespace {
 
-json strainJson(const StrainSummary& s) { return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}}; }
+json strainJson(const StrainSummary& s) {
+  return {{"median", s.median}, {"p95", s.p95}, {"max", s.max}};
+}
 
 // Per face of the flattened panel: max(|warp − 1|, |weft − 1|), against the 3D panel as it
 // was flattened (scan noise filtered), as flat.json's warp and weft figures are.
@@ -206,7 +222,9 @@ std::vector<double> faceStrain(const FlatPanel& fp) {
   return out;
 }
 
-std::string pieceName(const Panel& p) { return p.garment + " " + p.name; }
+std::string pieceName(const Panel& p) {
+  return p.garment + " " + p.name;
+}
 
 }  // namespace
 
@@ -238,8 +256,8 @@ json flatPatternToJson(const PanelsResult& panels, const FlatPatternResult& flat
     j.update({{"grain", {fp.grain.x(), fp.grain.y(), fp.grain.z()}},
               {"area_3d_m2", m.area3d},
               {"area_3d_scan_m2", p.area},
-              {"denoise_shift_mm", {{"mean", 1e3 * fp.denoiseShiftMean},
-                                    {"max", 1e3 * fp.denoiseShiftMax}}},
+              {"denoise_shift_mm",
+               {{"mean", 1e3 * fp.denoiseShiftMean}, {"max", 1e3 * fp.denoiseShiftMax}}},
               {"area_2d_m2", m.area2d},
               {"area_distortion", {{"mean", m.areaDistortionMean}, {"max", m.areaDistortionMax}}},
               {"warp_strain", strainJson(m.warp)},
@@ -249,31 +267,42 @@ json flatPatternToJson(const PanelsResult& panels, const FlatPatternResult& flat
               {"boundary_self_intersects", m.boundarySelfIntersects},
               {"refinement_iterations", fp.flattening.iterations},
               {"refinement_reverted", fp.flattening.refinementReverted},
+              {"reshaped", fp.reshaped},
+              {"strain_as_scanned", fp.reshaped.empty()
+                                        ? json(nullptr)
+                                        : json{{"warp", strainJson(fp.scannedMetrics.warp)},
+                                               {"weft", strainJson(fp.scannedMetrics.weft)}}},
               {"bezier_fit_error_m", fit},
-              {"bezier_segments", [&] {
+              {"bezier_segments",
+               [&] {
                  json a = json::array();
                  for (const FlatEdge& e : fp.edges) a.push_back(e.chain.size());
                  return a;
                }()},
-              {"remeshed", {{"vertices", fp.remeshed.V.rows()},
-                            {"faces", fp.remeshed.F.rows()},
-                            {"min_angle_deg", fp.remeshed.minAngleDeg},
-                            {"faces_below_angle_bound", fp.remeshed.badFaces},
-                            {"longest_edge_m", fp.remeshed.longestEdge}}}});
+              {"remeshed",
+               {{"vertices", fp.remeshed.V.rows()},
+                {"faces", fp.remeshed.F.rows()},
+                {"min_angle_deg", fp.remeshed.minAngleDeg},
+                {"faces_below_angle_bound", fp.remeshed.badFaces},
+                {"longest_edge_m", fp.remeshed.longestEdge}}}});
     out.push_back(j);
   }
   json seams = json::array();
   for (const SeamPair& s : flat.seams) {
     const Panel& a = panels.panels[s.panelA];
     const Panel& b = panels.panels[s.panelB];
-    seams.push_back({{"a", {{"panel", pieceName(a)}, {"edge", s.edgeA}, {"name", a.edges[s.edgeA].name}}},
-                     {"b", {{"panel", pieceName(b)}, {"edge", s.edgeB}, {"name", b.edges[s.edgeB].name}}},
-                     {"length_a_m", s.lengthA},
-                     {"length_b_m", s.lengthB},
-                     {"difference_mm", 1000 * std::abs(s.lengthA - s.lengthB)},
-                     {"vertices_each", s.samples}});
+    seams.push_back(
+        {{"a", {{"panel", pieceName(a)}, {"edge", s.edgeA}, {"name", a.edges[s.edgeA].name}}},
+         {"b", {{"panel", pieceName(b)}, {"edge", s.edgeB}, {"name", b.edges[s.edgeB].name}}},
+         {"length_a_m", s.lengthA},
+         {"length_b_m", s.lengthB},
+         {"difference_mm", 1000 * std::abs(s.lengthA - s.lengthB)},
+         {"vertices_each", s.samples}});
   }
-  return {{"panels", out}, {"stitched_pairs", seams}, {"warnings", flat.warnings}, {"seconds", flat.seconds}};
+  return {{"panels", out},
+          {"stitched_pairs", seams},
+          {"warnings", flat.warnings},
+          {"seconds", flat.seconds}};
 }
 
 void writeFlatPattern(const fs::path& dir, const Scan& scan, const PanelsResult& panels,
@@ -321,12 +350,14 @@ void writeFlatPattern(const fs::path& dir, const Scan& scan, const PanelsResult&
   for (size_t i = 0; i < done.size(); ++i) {
     const FlatPanel& fp = *done[i];
     for (int v = 0; v < fp.remeshed.V.rows(); ++v) {
-      const Eigen::Vector2d q = fp.remeshed.V.row(v).transpose() + offset.row(static_cast<int>(i)).transpose();
+      const Eigen::Vector2d q =
+          fp.remeshed.V.row(v).transpose() + offset.row(static_cast<int>(i)).transpose();
       all.V.row(v0 + v) << q.x(), q.y(), 0;
       const int f = fp.scanFace[v];
       Eigen::Vector2d uv = Eigen::Vector2d::Zero();
       for (int k = 0; k < 3; ++k)
-        if (texture) uv += fp.scanBary(v, k) * scan.texture->UV.row(scan.texture->FUV(f, k)).transpose();
+        if (texture)
+          uv += fp.scanBary(v, k) * scan.texture->UV.row(scan.texture->FUV(f, k)).transpose();
       if (texture) UV.row(v0 + v) = uv.transpose();
     }
     colour.middleRows(v0, fp.remeshed.V.rows()) = remeshedColours(scan, fp);
@@ -365,9 +396,18 @@ void printFlatPattern(const PanelsResult& panels, const FlatPatternResult& flat)
   for (const SeamPair& s : flat.seams)
     if (flat.panels[s.panelA].error.empty() && flat.panels[s.panelB].error.empty())
       worstPair = std::max(worstPair, std::abs(s.lengthA - s.lengthB));
-  fmt::print("flattened {} of {} panels in {:.2f} s: warp/weft strain p95 ≤ {:.1f} %, stitched "
-             "pairs of flattened panels within {:.1f} mm, remeshed min angle {:.1f}°\n",
-             ok, panels.panels.size(), flat.seconds, 100 * worstP95, 1000 * worstPair, minAngle);
+  fmt::print(
+      "flattened {} of {} panels in {:.2f} s: warp/weft strain p95 ≤ {:.1f} %, stitched "
+      "pairs of flattened panels within {:.1f} mm, remeshed min angle {:.1f}°\n",
+      ok, panels.panels.size(), flat.seconds, 100 * worstP95, 1000 * worstPair, minAngle);
+  for (const FlatPanel& fp : flat.panels)
+    if (!fp.reshaped.empty() && fp.error.empty())
+      fmt::print(
+          "  panel '{}' of {} flattened with its {}: warp/weft strain p95 {:.1f} % (against "
+          "the bent panel as scanned {:.1f} %)\n",
+          panels.panels[fp.panel].name, panels.panels[fp.panel].garment, fp.reshaped,
+          100 * std::max(fp.metrics.warp.p95, fp.metrics.weft.p95),
+          100 * std::max(fp.scannedMetrics.warp.p95, fp.scannedMetrics.weft.p95));
   for (const std::string& w : flat.warnings) fmt::print("  warning: {}\n", w);
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/mesh_query.h"
 
 namespace s2p {
 
@@ -509,6 +510,28 @@ Eigen::MatrixX3d poseSkinned(const PosedBody& body, const RowSparse& weights,
   return out;
 }
 
+Eigen::SparseMatrix<double, Eigen::RowMajor> closestPointWeights(const BodyModel& model,
+                                                                 const TriMesh& posedBody,
+                                                                 const Eigen::MatrixX3d& P) {
+  if (posedBody.numVertices() != model.numVertices())
+    throw InputError("closestPointWeights: the posed body has " +
+                     std::to_string(posedBody.numVertices()) + " vertices, the model " +
+                     std::to_string(model.numVertices()));
+  const MeshQuery query(posedBody);
+  const std::vector<ClosestHit> hits = query.closestPoints(P);
+  std::vector<Eigen::Triplet<double>> w;
+  for (int i = 0; i < P.rows(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const int v = posedBody.F(hits[i].face, k);
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(model.weights, v); it;
+           ++it)
+        w.emplace_back(i, static_cast<int>(it.col()), hits[i].bary[k] * it.value());
+    }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> W(P.rows(), model.numJoints());
+  W.setFromTriplets(w.begin(), w.end());
+  return W;
+}
+
 // === Standard poses
 
 BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which) {
@@ -542,11 +565,11 @@ BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, Stan
                      left ? Canonical::LeftWrist : Canonical::RightWrist,
                      Eigen::Vector3d(s * std::cos(down), -std::sin(down), 0.0)});
     if (which == StandardPose::DrapePose)
-      limbs.push_back({left ? Canonical::LeftHip : Canonical::RightHip,
-                       left ? Canonical::LeftKnee : Canonical::RightKnee,
-                       left ? Canonical::LeftAnkle : Canonical::RightAnkle,
-                       Eigen::Vector3d(s * std::sin(kDrapeLegSpread), -std::cos(kDrapeLegSpread),
-                                       0.0)});
+      limbs.push_back(
+          {left ? Canonical::LeftHip : Canonical::RightHip,
+           left ? Canonical::LeftKnee : Canonical::RightKnee,
+           left ? Canonical::LeftAnkle : Canonical::RightAnkle,
+           Eigen::Vector3d(s * std::sin(kDrapeLegSpread), -std::cos(kDrapeLegSpread), 0.0)});
   }
   for (const Limb& limb : limbs) {
     const int s = jointOf(limb.root), e = jointOf(limb.middle), w = jointOf(limb.end);

@@ -87,6 +87,14 @@ Eigen::MatrixX3d poseSkinned(const PosedBody& body,
                              const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights,
                              const Eigen::MatrixX3d& P);
 
+// Skinning weights of points near a posed body (#P×#J): each point takes those of its closest
+// point on `posedBody` (the weights of that face's vertices, blended barycentrically), so that a
+// garment can be unposed and posed with the body (unposeSkinned, poseSkinned). posedBody has
+// the model's faces.
+Eigen::SparseMatrix<double, Eigen::RowMajor> closestPointWeights(const BodyModel& model,
+                                                                 const TriMesh& posedBody,
+                                                                 const Eigen::MatrixX3d& P);
+
 // === Standard poses
 
 enum class StandardPose { Rest, APose, TPose, DrapePose };
@@ -97,8 +105,9 @@ inline constexpr double kDrapeLegSpread = 0.14;  // rad, 8°: the ankles ~0.25 m
 // Arms in the frontal plane, elbows straight, horizontal (T) or 45° below horizontal (A and the
 // drape pose); legs at rest, except in the drape pose (the pose patterns are placed and draped
 // around: A-pose arms and both legs turned out by kDrapeLegSpread, knees straight, so that no
-// sleeve touches the torso and no trouser leg the other); everything else at rest. Computed from the canonical shoulder, elbow and wrist
-// joints of the shaped model, so it works whatever the source's rest pose is.
+// sleeve touches the torso and no trouser leg the other); everything else at rest. Computed from
+// the canonical shoulder, elbow and wrist joints of the shaped model, so it works whatever the
+// source's rest pose is.
 BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which);
 
 // === Pose JSON: {"joint_name": [ax, ay, az], ..., "translation": [x, y, z]}

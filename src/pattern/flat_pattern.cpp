@@ -34,12 +34,23 @@ Eigen::MatrixX2d rowsOf(const Eigen::MatrixX2d& uv, const std::vector<int>& ids)
 
 // Flattening of one panel (no outline yet: the seams are trued first).
 void flatten(const Panel& panel, const BodyFrame& frame, const FlatPatternOptions& options,
-             FlatPanel& out) {
+             const PanelReshape* reshape, FlatPanel& out) {
+  TriMesh shape = panel.mesh;
   out.grain = panelGrain(panel, frame);
+  if (reshape && reshape->V.rows() > 0) {
+    if (reshape->V.rows() != panel.mesh.numVertices() || !reshape->V.allFinite())
+      throw InputError(
+          fmt::format("panel '{}' of {}: its reshaped vertices ({}) do not match its "
+                      "{} vertices or are not finite",
+                      panel.name, panel.garment, reshape->V.rows(), panel.mesh.numVertices()));
+    shape.V = reshape->V;
+    if (reshape->grain.norm() > 1e-9) out.grain = reshape->grain.normalized();
+    out.reshaped = reshape->why;
+  }
   std::vector<int> corners;
   for (const PanelEdge& e : panel.edges) corners.push_back(e.vertices.front());
-  out.surface = denoisePanel(panel.mesh, panel.loop, corners, options.denoise);
-  const Eigen::VectorXd shift = (out.surface.V - panel.mesh.V).rowwise().norm();
+  out.surface = denoisePanel(shape, panel.loop, corners, options.denoise);
+  const Eigen::VectorXd shift = (out.surface.V - shape.V).rowwise().norm();
   out.denoiseShiftMean = shift.size() ? shift.mean() : 0.0;
   out.denoiseShiftMax = shift.size() ? shift.maxCoeff() : 0.0;
   out.flattening =
@@ -51,6 +62,7 @@ void flatten(const Panel& panel, const BodyFrame& frame, const FlatPatternOption
 // on the partner panels' 2D lengths).
 void outline(const Panel& panel, const FlatPatternOptions& options, FlatPanel& out) {
   out.metrics = flatteningMetrics(out.surface, out.uv, out.grain);
+  if (!out.reshaped.empty()) out.scannedMetrics = flatteningMetrics(panel.mesh, out.uv, out.grain);
   out.edges.clear();
   for (const PanelEdge& e : panel.edges) {
     FlatEdge fe;
@@ -83,7 +95,7 @@ std::vector<SeamPair> seamPairs(const PanelsResult& panels) {
 // (untangleOpenings, which undoes the truing when it cannot), so a truing whose overlaps are
 // there is kept; two seam edges that cross are not.
 bool openingsInEveryCrossing(const Panel& panel, const std::vector<int>& boundary,
-                       const std::vector<std::pair<int, int>>& crossings) {
+                             const std::vector<std::pair<int, int>>& crossings) {
   std::map<std::pair<int, int>, bool> opening;  // boundary segment (min, max) → on an opening
   for (const PanelEdge& e : panel.edges)
     for (size_t k = 0; k + 1 < e.vertices.size(); ++k)
@@ -122,8 +134,8 @@ void trueSeams(const PanelsResult& panels, const std::vector<SeamPair>& pairs,
     // a sleeve on a bent arm, can move its two underarm edges 10 cm apart: too far to true).
     for (const Eigen::MatrixX2d* start : {&fp.uv, &fp.flattening.uvBff}) {
       try {
-        Eigen::MatrixX2d trued =
-            trueBoundaryLengths(mesh, fp.grain, *start, targets[p], options.flatten, options.truing);
+        Eigen::MatrixX2d trued = trueBoundaryLengths(mesh, fp.grain, *start, targets[p],
+                                                     options.flatten, options.truing);
         if (options.flatten.alignGrain) trued = alignToGrain(mesh, fp.grain, trued);
         // Truing moves the boundary: it must not come to overlap itself, but at its openings.
         std::vector<std::pair<int, int>> crossings;
@@ -309,7 +321,11 @@ Eigen::Vector3d panelGrain(const Panel& panel, const BodyFrame& frame) {
 }
 
 FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan,
-                                 const BodyFrame& frame, const FlatPatternOptions& options) {
+                                 const BodyFrame& frame, const FlatPatternOptions& options,
+                                 const std::vector<PanelReshape>& reshape) {
+  if (!reshape.empty() && reshape.size() != panels.panels.size())
+    throw InputError(fmt::format("runFlatPattern: {} reshaped shapes for {} panels", reshape.size(),
+                                 panels.panels.size()));
   const auto t0 = std::chrono::steady_clock::now();
   FlatPatternResult r;
   r.panels.resize(panels.panels.size());
@@ -318,7 +334,7 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
     FlatPanel& fp = r.panels[p];
     fp.panel = static_cast<int>(p);
     try {
-      flatten(panels.panels[p], frame, options, fp);
+      flatten(panels.panels[p], frame, options, reshape.empty() ? nullptr : &reshape[p], fp);
     } catch (const Error& e) {
       fp.error = e.what();
     }

@@ -43,6 +43,15 @@ struct FlatPatternOptions {
   RemeshOptions remesh;     // 10 mm target edge, ≥ 20.7°
 };
 
+// A shape to flatten a panel as instead of its scanned one (same vertices and faces): a sleeve
+// scanned on a bent arm, with the bend taken out (pipeline/limb_straightening.h). The pattern is
+// cut to it; colours, placement and stitches still use the scanned panel.
+struct PanelReshape {
+  Eigen::MatrixX3d V;  // #V of the panel × 3; empty: the panel is flattened as scanned
+  Eigen::Vector3d grain = Eigen::Vector3d::Zero();  // its grain; zero: panelGrain's
+  std::string why;  // for the report, e.g. "left elbow straightened (bent 88°)"
+};
+
 struct FlatEdge {
   BezierChain chain;          // in the panel's 2D frame (metres)
   double length2d = 0;        // of the flattened boundary polyline (m)
@@ -57,8 +66,10 @@ struct FlatPanel {
   TriMesh surface;  // the 3D panel as flattened: its faces, scan noise filtered (denoise)
   double denoiseShiftMean = 0, denoiseShiftMax = 0;  // m: how far the filter moved its vertices
   PanelFlattening flattening;
-  FlatteningMetrics metrics;    // of uv against the 3D panel
-  std::vector<FlatEdge> edges;  // as Panel::edges
+  FlatteningMetrics metrics;  // of uv against the 3D panel (reshaped when reshaped)
+  std::string reshaped;       // why it was flattened as another shape (PanelReshape), or empty
+  FlatteningMetrics scannedMetrics;  // of uv against the panel as scanned, when reshaped
+  std::vector<FlatEdge> edges;       // as Panel::edges
   RemeshedPanel remeshed;
   Eigen::MatrixX3d position;           // #V of the remeshed panel × 3: its point on the 3D panel
   std::vector<SurfacePoint> location;  // #V of the remeshed panel: where in the 3D panel
@@ -88,7 +99,9 @@ Eigen::Vector3d panelGrain(const Panel& panel, const BodyFrame& frame);
 // Flattens, outlines and remeshes every panel. scan: the scan mesh the panels' faceOrigin refer
 // to (for the scan face and weights of each new vertex). A panel that fails gets an error
 // naming it; the others are still done.
+// reshape: empty, or one per panel (PanelReshape).
 FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan,
-                                 const BodyFrame& frame, const FlatPatternOptions& options = {});
+                                 const BodyFrame& frame, const FlatPatternOptions& options = {},
+                                 const std::vector<PanelReshape>& reshape = {});
 
 }  // namespace s2p

@@ -55,18 +55,7 @@ Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& bod
   const Eigen::RowVector3d shift = placement.canonical.row(0) - drape.canonical.row(0);
   // Garment frame → the parameters' frame, where the fitted body is posed.
   const Eigen::MatrixX3d Q = (body.toGarments.inverse() * P.transpose()).transpose();
-  const MeshQuery query(fitted.mesh);
-  const std::vector<ClosestHit> hits = query.closestPoints(Q);
-  std::vector<Eigen::Triplet<double>> w;
-  for (int i = 0; i < Q.rows(); ++i)
-    for (int k = 0; k < 3; ++k) {
-      const int v = fitted.mesh.F(hits[i].face, k);
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(model.weights, v); it;
-           ++it)
-        w.emplace_back(i, static_cast<int>(it.col()), hits[i].bary[k] * it.value());
-    }
-  Eigen::SparseMatrix<double, Eigen::RowMajor> W(Q.rows(), model.numJoints());
-  W.setFromTriplets(w.begin(), w.end());
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> W = closestPointWeights(model, fitted.mesh, Q);
   Eigen::MatrixX3d out = poseSkinned(drape, W, unposeSkinned(fitted, W, Q));
   out.rowwise() += shift;
   return out;

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "core/error.h"
+#include "pipeline/limb_straightening.h"
 
 namespace s2p {
 
@@ -55,7 +56,10 @@ PatternResult runPattern(const PanelsInput& input, const PosedFeatures& body, co
   r.stages.emplace_back("panels", secondsSince(t));
   t = Clock::now();
   progress.begin("flatten, outline and remesh the panels");
-  r.flat = runFlatPattern(r.panels, scan, BodyFrame(input.canonical), options.flat);
+  const std::vector<PanelReshape> reshape =
+      options.straightenLimbs ? straightenLimbs(r.panels, body, options.straightening)
+                              : std::vector<PanelReshape>{};
+  r.flat = runFlatPattern(r.panels, scan, BodyFrame(input.canonical), options.flat, reshape);
   progress.end();
   r.stages.emplace_back("flatten", secondsSince(t));
   t = Clock::now();

@@ -19,6 +19,7 @@
 #include "pattern/panels.h"
 #include "pattern/placement.h"
 #include "pipeline/drape_stage.h"
+#include "pipeline/limb_straightening.h"
 #include "segment/segmentation.h"
 
 namespace s2p {
@@ -45,6 +46,10 @@ PanelsInput panelsInput(const Segmentation& segmentation, const PosedFeatures& b
 
 struct PatternOptions {
   PanelOptions panels;
+  // Sleeves and legs on a bent elbow or knee flattened as for a straight limb
+  // (limb_straightening.h); false: every panel flattened as scanned.
+  bool straightenLimbs = true;
+  LimbStraighteningOptions straightening;
   FlatPatternOptions flat;
   PlacementOptions placement;
 };
