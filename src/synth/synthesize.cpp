@@ -168,6 +168,7 @@ json synthOptionsToJson(const SynthOptions& o) {
           {"gap_colours", o.gapColours},
           {"shading", o.shading},
           {"key_light", o.keyLight},
+          {"baked_light", bakedLightOptionsToJson(o.light)},
           {"yaw_degrees", o.yawDegrees},
           {"raw_scan", rawScanOptionsToJson(o.raw)},
           {"seed", o.seed}};
@@ -222,6 +223,7 @@ SynthOptions synthOptionsFromJson(const json& j) {
     o.gapColours = j.value("gap_colours", o.gapColours);
     o.shading = j.value("shading", o.shading);
     o.keyLight = j.value("key_light", o.keyLight);
+    if (j.contains("baked_light")) o.light = bakedLightOptionsFromJson(j.at("baked_light"));
     o.yawDegrees = j.value("yaw_degrees", o.yawDegrees);
     if (j.contains("raw_scan")) o.raw = rawScanOptionsFromJson(j.at("raw_scan"));
     o.seed = j.value("seed", o.seed);
@@ -263,6 +265,7 @@ void validate(const SynthOptions& o) {
   if (!o.outfit.skin.allFinite() || !o.outfit.hair.allFinite())
     throw InputError("synth: skin and hair colours must be finite sRGB");
   validateRawScanOptions(o.raw);
+  validateBakedLightOptions(o.light);
 }
 
 }  // namespace
@@ -289,6 +292,12 @@ SynthScan synthesize(const BodyModel& model, const SynthOptions& options, Progre
   progress.begin("colours and truth");
   SynthScan out = assembleSynthScan(model, params, surface, options);
   progress.end();
+  if (options.light.any()) {
+    progress.begin("baked light (occlusion, bleeding, JPEG blocks)");
+    bakeLight(out.scan.mesh, out.restPosition, out.scan.colour, options.light,
+              subSeed(options.seed, 4));
+    progress.end();
+  }
   if (options.raw.any()) {
     progress.begin("raw-scan degradations");
     const RawScanStats st = degradeScan(out, options.raw, subSeed(options.seed, 3));

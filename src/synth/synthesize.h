@@ -18,6 +18,7 @@
 #include "export/preview.h"
 #include "io/scan.h"
 #include "synth/appearance.h"
+#include "synth/baked_light.h"
 #include "synth/clothed_surface.h"
 #include "synth/outfit.h"
 #include "synth/raw_scan.h"
@@ -52,6 +53,7 @@ struct SynthOptions {
   bool gapColours = false;  // gap faces get meaningless blotches (§5.2) instead of the inside
   double shading = 0.06;    // ± multiplicative shading noise
   double keyLight = 0;      // baked key light strength (AppearanceOptions::keyLight), 0: none
+  BakedLightOptions light;  // ambient occlusion, colour bleeding, JPEG chroma blocks (none)
   double yawDegrees = 0;    // scan and truth rotated about +Y (orientation tests)
   RawScanOptions raw;       // raw-scan degradations after the colours (realistic family)
   std::uint64_t seed = 1;
