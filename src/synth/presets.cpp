@@ -252,6 +252,62 @@ std::vector<Preset> buildCatalogue() {
     p.options.raw.fins = 20;
     c.push_back(p);
   }
+  // A studio scan's texture keeps the studio's light (synth/baked_light.h): a key light,
+  // ambient occlusion in every crease, the light bounced off one garment tinting its neighbour,
+  // and a JPEG texture's chroma blocks. Three skin tones.
+  auto studio = [](Preset p, double keyLight) {
+    p.options.keyLight = keyLight;
+    p.options.light.occlusion = 0.6;
+    p.options.light.bounce = 0.6;
+    p.options.light.chromaBlock = 0.008;
+    p.options.light.blockNoise = 0.008;
+    p.options.geometry.noise = 0.0005;
+    return p;
+  };
+  c.push_back(studio(
+      make("studio_sweatshirt",
+           "sweatshirt and chinos in a studio's baked light (key ±45 %, occlusion, bleeding, "
+           "JPEG chroma blocks)",
+           30000, SynthPose::APose,
+           {garment(G::LongSleeveShirt, V3(0.55, 0.58, 0.66)), garment(G::Trousers, kKhaki),
+            shoes()},
+           0.35),
+      0.45));
+  c.push_back(studio(make("studio_dark_skin",
+                          "red t-shirt and denim trousers on dark skin, arms down, in a studio's "
+                          "baked light (the shirt's red bounced onto the inner arms)",
+                          30000, SynthPose::ArmsDown,
+                          {garment(G::TShirt, kRed), garment(G::Trousers, kDenim), shoes()}, 0.9),
+                     0.35));
+  c.push_back(studio(make("studio_light_skin",
+                          "white sleeveless top and black shorts on light skin in a studio's "
+                          "baked light (the top's shaded side as grey as shadowed skin)",
+                          30000, SynthPose::APose,
+                          {garment(G::SleevelessTop, kWhite), garment(G::Shorts, kBlack)}, 0.0),
+                     0.45));
+  // Where lightness is the whole contrast: a navy top over black trousers (ΔE 14, almost all of
+  // it L*) in the same light. A colour model that discounts lightness to survive shading must
+  // still tell these apart.
+  c.push_back(studio(make("studio_navy_black",
+                          "navy t-shirt over black trousers in a studio's baked light (the two "
+                          "differ mostly in lightness)",
+                          30000, SynthPose::APose,
+                          {garment(G::TShirt, kNavy), garment(G::Trousers, kBlack), shoes()}, 0.6),
+                     0.45));
+  {
+    // The relaxed stance in the studio: the hanging arms touch the trousers, so the sleeves'
+    // light bounces onto the thighs and the trousers' onto the inner arms, and the contact
+    // creases are the darkest places of the scan.
+    Preset p = studio(make("studio_relaxed",
+                           "long-sleeve shirt and chinos, arms hanging against the thighs, in a "
+                           "studio's baked light (colour bled across the contacts)",
+                           30000, SynthPose::Relaxed,
+                           {garment(G::LongSleeveShirt, kGreen), garment(G::Trousers, kKhaki),
+                            shoes()},
+                           0.5),
+                      0.4);
+    c.push_back(p);
+  }
   return c;
 }
 

@@ -42,6 +42,7 @@ TEST(Presets, CoverTheCataloguePosesAndHardCases) {
   std::set<SynthPose> poses;
   std::set<PatternKind> patterns;
   bool gap = false, noise = false, holes = false, shape = false, bareFeet = false;
+  int studioLight = 0;  // key light, occlusion, bleeding and JPEG blocks together
   for (const Preset& p : presets()) {
     bool hasShoes = false;
     for (const auto& g : p.options.outfit.garments) {
@@ -55,11 +56,15 @@ TEST(Presets, CoverTheCataloguePosesAndHardCases) {
     noise |= p.options.geometry.noise > 0;
     holes |= p.options.geometry.holes > 0;
     shape |= !p.options.shape.empty();
+    const BakedLightOptions& l = p.options.light;
+    if (p.options.keyLight > 0 && l.occlusion > 0 && l.bounce > 0 && l.chromaBlock > 0)
+      ++studioLight;
   }
   EXPECT_EQ(types.size(), 12u);    // every garment type of the catalogue
   EXPECT_EQ(poses.size(), 6u);     // A, T, arms down, walking, bent arm, relaxed
   EXPECT_EQ(patterns.size(), 5u);  // solid, stripes, checks, dots, noise
   EXPECT_TRUE(gap && noise && holes && shape && bareFeet);
+  EXPECT_GE(studioLight, 3);  // issue 18: baked light on three skin tones
   // Low contrast (case t): upper and lower within 10 ΔE*ab; close to skin: within 10 of it.
   const SynthOptions lc = presetOptions("low_contrast");
   EXPECT_LT(deltaE76(srgbToLab(lc.outfit.garments[0].look.base),
