@@ -11,6 +11,7 @@
 #include <numeric>
 #include <optional>
 #include <queue>
+#include <unordered_map>
 
 #include "core/error.h"
 #include "core/mesh_query.h"
@@ -420,6 +421,35 @@ class GarmentPanelizer {
     return hasLr ? fmt::format("{}_{}", panelKey_[p] >= 2 ? "left" : "right", base) : base;
   }
 
+  // An underarm chain that wanders onto the cuff cuts off the sliver between itself and the
+  // cuff along with opening the sleeve: the panel comes out in two pieces. Un-cuts the cut edges
+  // between the panel's largest piece and the others; true when any were.
+  bool rejoinSeveredIslands(const PanelMesh& pm, const MeshTopology& pt) {
+    std::vector<int> faces(pt.numComponents(), 0);
+    for (int f = 0; f < pm.mesh.numFaces(); ++f) ++faces[pt.faceComponent()[f]];
+    const int main = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
+    std::unordered_map<int, int> componentOf;  // seamed-garment face → panel piece
+    for (int f = 0; f < pm.mesh.numFaces(); ++f)
+      componentOf[pm.globalFace[f]] = pt.faceComponent()[f];
+    bool rejoined = false;
+    for (const auto& [face, component] : componentOf) {
+      if (component == main) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int e = topo_->faceEdges()(face, k);
+        if (!cut_[e]) continue;
+        for (int other : topo_->edgeFaces(e)) {
+          const auto it = componentOf.find(other);
+          if (it != componentOf.end() && it->second == main) {
+            cut_[e] = 0;
+            fallbackCut_[e] = 0;
+            rejoined = true;
+          }
+        }
+      }
+    }
+    return rejoined;
+  }
+
   void buildPanels(GarmentPanels& gp) {
     const TriMesh& m = seamed_.mesh;
     const int first = static_cast<int>(result_.panels.size());
@@ -440,6 +470,12 @@ class GarmentPanelizer {
         const MeshTopology pt(pm.mesh.F, pm.mesh.numVertices());
         const size_t loops = pt.boundaryLoops().size();
         if (loops == 1 && pt.eulerCharacteristic() == 1) break;
+        if (pt.numComponents() > 1 && rejoinSeveredIslands(pm, pt)) {
+          gp.notes.push_back(fmt::format(
+              "panel '{}': a piece its own cut had severed was joined back to it", panel.name));
+          pm = extractPanel(m, *topo_, panelFaces_[p], piece_, static_cast<int>(p), cut_);
+          continue;
+        }
         if (loops < 2 || round > 8)
           throw TopologyError(fmt::format(
               "pattern: panel '{}' of garment '{}' is not a disk ({} boundary loops, χ = {}) "
