@@ -208,21 +208,31 @@ GaussianMixture withoutBorrowedComponents(const GaussianMixture& model,
                                           double* droppedWeight) {
   constexpr double kChi2Three95 = 7.815;  // 95 % quantile of χ² with 3 degrees of freedom
   if (droppedWeight) *droppedWeight = 0;
-  std::vector<int> kept;
-  double dropped = 0;
+  // Each component's distance (Mahalanobis², in other's nearest component) to other's colours.
+  std::vector<std::pair<double, int>> explained;
   for (int k = 0; k < model.components(); ++k) {
-    bool explained = false;
-    for (int j = 0; j < other.components() && !explained; ++j) {
+    double best = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < other.components(); ++j) {
       const Eigen::Vector3d d = (model.means.row(k) - other.means.row(j)).transpose();
-      explained = d.dot(other.covariances[j].ldlt().solve(d)) < kChi2Three95;
+      best = std::min(best, d.dot(other.covariances[j].ldlt().solve(d)));
     }
-    if (explained)
-      dropped += model.weights[k];
-    else
-      kept.push_back(k);
+    if (best < kChi2Three95) explained.emplace_back(best, k);
   }
-  if (kept.empty() || dropped >= maxShare || kept.size() == static_cast<size_t>(model.components()))
-    return model;
+  // The best explained go first, while together they stay a minority: a broad other (a garment
+  // spread over 20 L* by shading) can hold the region's own colour in its ellipsoid too, and
+  // the strays are the components nearest its colours, not all it holds.
+  std::sort(explained.begin(), explained.end());
+  std::vector<bool> drop(model.components(), false);
+  double dropped = 0;
+  for (const auto& [distance, k] : explained) {
+    if (dropped + model.weights[k] >= maxShare) break;
+    dropped += model.weights[k];
+    drop[k] = true;
+  }
+  std::vector<int> kept;
+  for (int k = 0; k < model.components(); ++k)
+    if (!drop[k]) kept.push_back(k);
+  if (kept.size() == static_cast<size_t>(model.components())) return model;
   if (droppedWeight) *droppedWeight = dropped;
   GaussianMixture out = model;
   const int n = static_cast<int>(kept.size());
@@ -248,8 +258,8 @@ RegionColours fitRegionColours(const TriMesh& mesh, const Eigen::MatrixX3d& srgb
                      " vertices); a scan without colour "
                      "cannot be segmented by colour");
   RegionColours out;
-  out.lab = srgbToLab(
-      Eigen::MatrixX3d(smoothOnSurface(mesh, srgb, options.colourSmoothing, options.smoothingSteps)));
+  out.lab = srgbToLab(Eigen::MatrixX3d(
+      smoothOnSurface(mesh, srgb, options.colourSmoothing, options.smoothingSteps)));
   const Eigen::MatrixXd lab = out.lab;
   for (size_t r = 0; r < regions.size(); ++r) {
     const std::vector<SurfacePoint>& points = regions[r];
@@ -291,22 +301,22 @@ SkinModel fitSkinModel(const Eigen::MatrixX3d& lab, double spreadFactor, double 
   m.mean = lab.colwise().mean().transpose();
   std::vector<double> d;
   for (int i = 0; i < lab.rows(); ++i) d.push_back(deltaE2000(lab.row(i).transpose(), m.mean));
-  const size_t k =
-      std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
+  const size_t k = std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
   std::nth_element(d.begin(), d.begin() + k, d.end());
   m.threshold = std::clamp(spreadFactor * d[k], minDeltaE, maxDeltaE);
   return m;
 }
 
-Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh, const std::vector<GaussianMixture>& models,
+Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh,
+                                     const std::vector<GaussianMixture>& models,
                                      const std::vector<bool>& positive, const Eigen::MatrixX3d& lab,
                                      const ColourModelOptions& options,
                                      const std::vector<bool>& neutral) {
   Eigen::VectorXd phi = posteriorDisplacement(models, positive, lab);
   if (!neutral.empty()) {
     if (neutral.size() != static_cast<size_t>(phi.size()))
-      throw InputError("colour model: " + std::to_string(neutral.size()) +
-                       " neutral flags for " + std::to_string(phi.size()) + " vertices");
+      throw InputError("colour model: " + std::to_string(neutral.size()) + " neutral flags for " +
+                       std::to_string(phi.size()) + " vertices");
     for (int v = 0; v < phi.size(); ++v)
       if (neutral[v]) phi[v] = 0;
   }

@@ -57,9 +57,10 @@ struct GaussianMixture {
 // has fewer rows than the requested components.
 GaussianMixture fitGaussianMixture(const Eigen::MatrixX3d& X, const GmmOptions& options = {});
 
-// `model` without the components that `other` already explains: a component goes when its mean
-// lies inside the 95 % ellipsoid (Mahalanobis² < 7.81) of one of other's components, and the
-// dropped ones together hold less than `maxShare` of the weight; the rest are renormalised.
+// `model` without the components that `other` already explains: of the components whose means
+// lie inside the 95 % ellipsoid (Mahalanobis² < 7.81) of one of other's components, the nearest
+// go first, as long as the dropped ones together hold less than `maxShare` of the weight; the
+// rest are renormalised.
 // For a region whose points can stray onto another label's garment (the hip points of the lower
 // region land on a top worn untucked): the strays form a minority component the other region's
 // mixture already has, and left in they make that garment's colour ambiguous. `dropped`, when
