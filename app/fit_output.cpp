@@ -105,8 +105,7 @@ void writeFit(const fs::path& dir, const Scan& scan, const BodyModel& model, con
 nlohmann::json fitStartJson(const ScanFit& fit) {
   nlohmann::json scores = nlohmann::json::object();
   for (const StartScore& s : fit.startScores) scores[s.name] = 1000 * s.score;
-  return {
-      {"start", fit.start}, {"start_score_mm", 1000 * fit.startScore}, {"start_scores_mm", scores}};
+  return {{"name", fit.start}, {"score_mm", 1000 * fit.startScore}, {"scores_mm", scores}};
 }
 
 void printFit(const ScanFit& fit) {

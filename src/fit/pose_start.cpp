@@ -1,5 +1,7 @@
 #include "fit/pose_start.h"
 
+#include <fmt/format.h>
+
 #include <limits>
 #include <optional>
 
@@ -70,6 +72,12 @@ GatedFitResult gatedFit(const BodyFitInput& input, const PoseInitOptions& poseIn
   }
   out.start = starts[best].name;
   out.score = bestScore;
+  if (starts[0].name == "geometry" && best != 0)
+    out.warnings.push_back(fmt::format(
+        "the fit from the geometric pose initialisation lies {:.1f} mm from the scan, from the {} "
+        "start {:.1f} mm: the extremities were probably misread (hands touching the thighs or "
+        "hips); fitting from the {} start",
+        1000 * out.scores[0].score, out.start, 1000 * bestScore, out.start));
   out.fit = fitFrom(input, starts[best].params, fit);
   return out;
 }
