@@ -57,6 +57,7 @@ GatedFitResult gatedFit(const BodyFitInput& input, const PoseInitOptions& poseIn
   brief.cycles = options.shortCycles;
   brief.finalSteps = options.shortFinalSteps;
   brief.maxIterations = options.shortMaxIterations;
+  brief.maxFitVertices = options.shortFitVertices;
   const MeshQuery scanQuery(input.scan);
   int best = -1;
   double bestScore = std::numeric_limits<double>::infinity();
