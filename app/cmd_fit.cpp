@@ -35,6 +35,7 @@ struct FitCommand {
   std::string model = "mannequin";
   std::string keypoints;
   bool noNonrigid = false;
+  bool singleStart = false;
   LoadOptions load;
 };
 
@@ -51,6 +52,10 @@ void addFitOptions(CLI::App* cmd, FitCommand& o) {
                   "{\"left_wrist\": [x, y, z], ...} of canonical joint names");
   cmd->add_flag("--no-nonrigid", o.noNonrigid,
                 "Skip the non-rigid full fit (body_full.obj is then the fitted body)");
+  cmd->add_flag("--single-start", o.singleStart,
+                "Fit from the geometric pose initialisation alone (the rest pose when it fails) "
+                "instead of the best of several starts (geometry, arms down, rest): faster, "
+                "loses arms that hang against the thighs");
   addLoadOptions(cmd, o.load);
 }
 
@@ -83,6 +88,7 @@ ScanAndModel loadScanAndModel(const fs::path& scanPath, const LoadOptions& load,
 ScanFitOptions scanFitOptions(const FitCommand& cmd, const Scan& scan) {
   ScanFitOptions o;
   o.nonrigid = !cmd.noNonrigid;
+  o.multiStart = !cmd.singleStart;
   if (!cmd.keypoints.empty())
     o.keypoints = readKeypoints(cmd.keypoints, scan.toInputFrame.inverse());
   return o;
@@ -114,7 +120,8 @@ struct RunCommand {
 
 int runRun(const RunCommand& cmd, Progress& progress) {
   requireWritableFolder(cmd.fit.out);
-  const auto [loaded, model] = loadScanAndModel(cmd.fit.scan, cmd.fit.load, cmd.fit.model, progress);
+  const auto [loaded, model] =
+      loadScanAndModel(cmd.fit.scan, cmd.fit.load, cmd.fit.model, progress);
   SegmentationOptions so;
   so.boundary.faithful = cmd.faithful;
   DrapeStageOptions drape;
@@ -206,6 +213,7 @@ struct FitSuiteCommand {
   bool segment = false;
   bool faithful = false;
   bool noNonrigid = false;
+  bool singleStart = false;
 };
 
 Eigen::MatrixX3d applied(const Eigen::Affine3d& T, const Eigen::MatrixX3d& P) {
@@ -242,6 +250,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
         so.boundary.faithful = cmd.faithful;
         ScanFitOptions fo;
         fo.nonrigid = !cmd.noNonrigid;
+        fo.multiStart = !cmd.singleStart;
         RunOutput run;
         DrapeStageOptions drape;
         drape.enabled = false;  // fit-suite measures the fit, segmentation and pattern
@@ -267,6 +276,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
                     {"inside_or_within_5mm", fit.fit.insideOrNear},
                     {"yaw_error_degrees", yawError},
                     {"initialisation", fit.initialisation},
+                    {"start", fitStartJson(fit)},
                     {"fit_seconds", fit.seconds},
                     {"warnings", fit.warnings}});
         std::string line = fmt::format(
@@ -368,6 +378,8 @@ void addFitCommands(CLI::App& app, Commands& out) {
   suite->add_flag("--faithful", s->faithful, "Algorithm 1 as written when segmenting");
   suite->add_flag("--no-nonrigid", s->noNonrigid,
                   "Skip the non-rigid full fit (joint figures do not depend on it)");
+  suite->add_flag("--single-start", s->singleStart,
+                  "Fit from the geometric pose initialisation alone (see fit --single-start)");
   out.push_back({suite, [s](Progress& progress) { return runFitSuite(*s, progress); }});
 }
 

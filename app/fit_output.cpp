@@ -37,8 +37,9 @@ json fitBodyJson(const BodyModel& model, const ScanFit& fit, const Scan& scan) {
       xyz = {p.x(), p.y(), p.z()};
     }
   json m = json::array();
-  for (int r = 0; r < 4; ++r) m.push_back({toFile.matrix()(r, 0), toFile.matrix()(r, 1),
-                                           toFile.matrix()(r, 2), toFile.matrix()(r, 3)});
+  for (int r = 0; r < 4; ++r)
+    m.push_back({toFile.matrix()(r, 0), toFile.matrix()(r, 1), toFile.matrix()(r, 2),
+                 toFile.matrix()(r, 3)});
   j["to_scan_file"] = m;
   j["full_mesh"] = "body_full.obj";
   std::vector<std::string> warnings = fit.warnings;
@@ -51,14 +52,18 @@ json fitBodyJson(const BodyModel& model, const ScanFit& fit, const Scan& scan) {
   }
   json stages = json::array();
   for (const FitStageReport& s : fit.fit.stages)
-    stages.push_back({{"name", s.name}, {"cycle", s.cycle}, {"seconds", s.seconds},
-                      {"iterations", s.iterations}, {"cost_before", s.costBefore},
+    stages.push_back({{"name", s.name},
+                      {"cycle", s.cycle},
+                      {"seconds", s.seconds},
+                      {"iterations", s.iterations},
+                      {"cost_before", s.costBefore},
                       {"cost_after", s.costAfter}});
   json timings = json::object();
   for (const auto& [name, s] : fit.timings) timings[name] = s;
   json cues = json::object();
   for (const OrientationCue& c : fit.orientation.cues) cues[c.name] = c.vote;
   j["fit"] = {{"initialisation", fit.initialisation},
+              {"start", fitStartJson(fit)},
               {"yaw_degrees", fit.orientation.yaw * 180 / M_PI},
               {"orientation_confidence", fit.orientation.confidence},
               {"orientation_cues", cues},
@@ -68,8 +73,9 @@ json fitBodyJson(const BodyModel& model, const ScanFit& fit, const Scan& scan) {
               {"timings", timings},
               {"stages", stages},
               {"warnings", warnings},
-              {"frame", "joints, canonical and to_scan_file: the scan file's frame and units; "
-                        "shape, pose and translation: the body model's frame"}};
+              {"frame",
+               "joints, canonical and to_scan_file: the scan file's frame and units; "
+               "shape, pose and translation: the body model's frame"}};
   return j;
 }
 
@@ -96,15 +102,22 @@ void writeFit(const fs::path& dir, const Scan& scan, const BodyModel& model, con
   writePng(dir / "fit_side.png", renderScene(scene, ro));
 }
 
+nlohmann::json fitStartJson(const ScanFit& fit) {
+  nlohmann::json scores = nlohmann::json::object();
+  for (const StartScore& s : fit.startScores) scores[s.name] = 1000 * s.score;
+  return {{"name", fit.start}, {"score_mm", 1000 * fit.startScore}, {"scores_mm", scores}};
+}
+
 void printFit(const ScanFit& fit) {
-  fmt::print("facing {:.0f}° (confidence {:.2f}), pose from {}; {:.1f} s (", 
+  fmt::print("facing {:.0f}° (confidence {:.2f}), pose from {} (start: {}); {:.1f} s (",
              fit.orientation.yaw * 180 / M_PI, fit.orientation.confidence, fit.initialisation,
-             fit.seconds);
+             fit.start, fit.seconds);
   for (size_t i = 0; i < fit.timings.size(); ++i)
     fmt::print("{}{} {:.1f} s", i ? ", " : "", fit.timings[i].first, fit.timings[i].second);
-  fmt::print(")\n  {:.1f} % of the body inside the scan or within 5 mm; full fit {:.1f} mm from "
-             "the scan on average\n",
-             100 * fit.fit.insideOrNear, 1000 * fit.fullMeanDistance);
+  fmt::print(
+      ")\n  {:.1f} % of the body inside the scan or within 5 mm; full fit {:.1f} mm from "
+      "the scan on average\n",
+      100 * fit.fit.insideOrNear, 1000 * fit.fullMeanDistance);
   for (const std::string& w : fit.warnings) fmt::print("  warning: {}\n", w);
 }
 

@@ -23,5 +23,8 @@ void writeFit(const std::filesystem::path& dir, const Scan& scan, const BodyMode
               const ScanFit& fit);
 void printFit(const ScanFit& fit);
 
+// The start the fit was finished from and, with multi-start, every start's score:
+// {"name": …, "score_mm": …, "scores_mm": {name: mm, …}} (scores: pose_start.h).
+nlohmann::json fitStartJson(const ScanFit& fit);
 
 }  // namespace s2p::app

@@ -178,6 +178,7 @@ json runReport(const LoadedScan& scan, const BodyModel& model, const RunOutput& 
             {"yaw_degrees", fit.orientation.yaw * 180 / M_PI},
             {"orientation_confidence", fit.orientation.confidence},
             {"initialisation", fit.initialisation},
+            {"start", fitStartJson(fit)},
             {"inside_or_within_5mm", fit.fit.insideOrNear}}},
           {"found", segmentationSummary(seg)},
           {"pattern", pattern},

@@ -534,11 +534,14 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> closestPointWeights(const BodyModel
 
 // === Standard poses
 
-BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which) {
+namespace {
+
+// Arms straight in the frontal plane `down` radians below horizontal; the legs turned out by
+// kDrapeLegSpread when `drapeLegs`; everything else at rest.
+BodyPose straightLimbsPose(const BodyModel& model, const Eigen::VectorXd& shape, double down,
+                           bool drapeLegs) {
   BodyPose pose = BodyPose::zero(model.numJoints());
-  if (which == StandardPose::Rest) return pose;
   const Eigen::MatrixX3d J = restJoints(model, shape);
-  const double down = which == StandardPose::TPose ? 0.0 : std::numbers::pi / 4;
   auto jointOf = [&](Canonical c) {
     const int j = model.canonical[static_cast<int>(c)].joint;
     if (j < 0 || j >= model.numJoints())
@@ -564,7 +567,7 @@ BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, Stan
                      left ? Canonical::LeftElbow : Canonical::RightElbow,
                      left ? Canonical::LeftWrist : Canonical::RightWrist,
                      Eigen::Vector3d(s * std::cos(down), -std::sin(down), 0.0)});
-    if (which == StandardPose::DrapePose)
+    if (drapeLegs)
       limbs.push_back(
           {left ? Canonical::LeftHip : Canonical::RightHip,
            left ? Canonical::LeftKnee : Canonical::RightKnee,
@@ -588,6 +591,18 @@ BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, Stan
     pose.axisAngle.row(e) = matrixToAxisAngle(Re).transpose();
   }
   return pose;
+}
+
+}  // namespace
+
+BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which) {
+  if (which == StandardPose::Rest) return BodyPose::zero(model.numJoints());
+  return straightLimbsPose(model, shape, which == StandardPose::TPose ? 0.0 : std::numbers::pi / 4,
+                           which == StandardPose::DrapePose);
+}
+
+BodyPose armsDownPose(const BodyModel& model, const Eigen::VectorXd& shape, double down) {
+  return straightLimbsPose(model, shape, down, false);
 }
 
 // === Pose JSON

@@ -110,6 +110,13 @@ inline constexpr double kDrapeLegSpread = 0.14;  // rad, 8°: the ankles ~0.25 m
 // source's rest pose is.
 BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which);
 
+// A relaxed stance's arms (issue 17): straight in the frontal plane, `down` radians below
+// horizontal (default 80°: the arms hang along the sides, the hands by the thighs); the rest of
+// the body at rest. A start for fitting scans whose hands touch the thighs.
+inline constexpr double kArmsDownAngle = 1.396;  // rad, 80°
+BodyPose armsDownPose(const BodyModel& model, const Eigen::VectorXd& shape,
+                      double down = kArmsDownAngle);
+
 // === Pose JSON: {"joint_name": [ax, ay, az], ..., "translation": [x, y, z]}
 
 // Joints absent from the file stay at zero. Canonical names ("left_elbow") are accepted for

@@ -421,13 +421,19 @@ BodyParams initialisePose(const TriMesh& scan, const BodyModel& model,
   return poseFromTargets(model, shape, findExtremities(scan, model, shape, opt).targets, opt);
 }
 
-BodyParams restPoseOnScan(const TriMesh& scan, const BodyModel& model,
-                          const Eigen::VectorXd& shape) {
+BodyParams poseOnScan(const TriMesh& scan, const BodyModel& model, const BodyPose& pose,
+                      const Eigen::VectorXd& shape) {
   BodyParams p;
   p.shape = shape.size() ? shape : Eigen::VectorXd(Eigen::VectorXd::Zero(model.numShapes()));
-  p.pose = BodyPose::zero(model.numJoints());
+  p.pose = pose;
+  p.pose.translation.setZero();
   p.pose.translation = areaCentroid(scan) - areaCentroid(poseBody(model, p).mesh);
   return p;
+}
+
+BodyParams restPoseOnScan(const TriMesh& scan, const BodyModel& model,
+                          const Eigen::VectorXd& shape) {
+  return poseOnScan(scan, model, BodyPose::zero(model.numJoints()), shape);
 }
 
 }  // namespace s2p

@@ -58,6 +58,11 @@ BodyParams poseFromTargets(const BodyModel& model, const Eigen::VectorXd& shape,
 BodyParams initialisePose(const TriMesh& scan, const BodyModel& model,
                           const Eigen::VectorXd& shape = {}, const PoseInitOptions& options = {});
 
+// `pose` (its translation ignored) moved so that the body's area centroid lies on the scan's: a
+// start for the fit that needs nothing found on the scan.
+BodyParams poseOnScan(const TriMesh& scan, const BodyModel& model, const BodyPose& pose,
+                      const Eigen::VectorXd& shape = {});
+
 // The fallback when no pose can be found (BSE's translateTo): the rest pose with the body's
 // area centroid on the scan's.
 BodyParams restPoseOnScan(const TriMesh& scan, const BodyModel& model,

@@ -55,10 +55,42 @@ TriMesh transformed(const TriMesh& m, const Eigen::Affine3d& T) {
   return out;
 }
 
+// The fit from one start: the keypoints, or the geometric initialisation (the rest pose when
+// it fails).
+void fitFromOneStart(ScanFit& out, Steps& steps, BodyFitInput& input, const Eigen::Affine3d& toFit,
+                     const BodyModel& model, const ScanFitOptions& options) {
+  out.initialisation = options.keypoints ? "keypoints" : "geometry";
+  input.initial = steps.run("pose initialisation", [&]() -> std::optional<BodyParams> {
+    try {
+      if (options.keypoints) {
+        std::vector<JointTarget> targets = *options.keypoints;
+        for (JointTarget& t : targets) t.position = toFit * t.position;
+        return poseFromTargets(model, {}, targets, options.poseInit);
+      }
+      return initialisePose(input.scan, model, {}, options.poseInit);
+    } catch (const InputError& e) {
+      if (options.keypoints) throw;
+      // No five extremities (limbs touching the body): the rest pose, centred on the scan.
+      out.initialisation = "rest";
+      out.warnings.push_back(std::string("pose initialisation failed, fitting from the rest "
+                                         "pose: ") +
+                             e.what());
+      return restPoseOnScan(input.scan, model);
+    }
+  });
+
+  out.fit = steps.run("shape and pose", [&] { return runBodyFit(input, options.fit); });
+  out.start = out.initialisation;
+}
+
 }  // namespace
 
-TriMesh ScanFit::fittedInScanFrame() const { return transformed(fit.body.mesh, toScan); }
-TriMesh ScanFit::fullInScanFrame() const { return transformed(full, toScan); }
+TriMesh ScanFit::fittedInScanFrame() const {
+  return transformed(fit.body.mesh, toScan);
+}
+TriMesh ScanFit::fullInScanFrame() const {
+  return transformed(full, toScan);
+}
 Eigen::MatrixX3d ScanFit::canonicalInScanFrame() const {
   return (fit.body.canonical * toScan.linear().transpose()).rowwise() +
          toScan.translation().transpose();
@@ -115,26 +147,19 @@ ScanFit fitScan(const TriMesh& scanFull, const BodyModel& model, const ScanFitOp
   input.scan = transformed(scanIn, toFit);
   input.model = &model;
 
-  out.initialisation = options.keypoints ? "keypoints" : "geometry";
-  input.initial = steps.run("pose initialisation", [&]() -> std::optional<BodyParams> {
-    try {
-      if (options.keypoints) {
-        std::vector<JointTarget> targets = *options.keypoints;
-        for (JointTarget& t : targets) t.position = toFit * t.position;
-        return poseFromTargets(model, {}, targets, options.poseInit);
-      }
-      return initialisePose(input.scan, model, {}, options.poseInit);
-    } catch (const InputError& e) {
-      if (options.keypoints) throw;
-      // No five extremities (limbs touching the body): the rest pose, centred on the scan.
-      out.initialisation = "rest";
-      out.warnings.push_back(std::string("pose initialisation failed, fitting from the rest "
-                                         "pose: ") + e.what());
-      return restPoseOnScan(input.scan, model);
-    }
-  });
-
-  out.fit = steps.run("shape and pose", [&] { return runBodyFit(input, options.fit); });
+  if (options.keypoints || !options.multiStart) {
+    fitFromOneStart(out, steps, input, toFit, model, options);
+  } else {
+    out.initialisation = "multi-start";
+    GatedFitResult g = steps.run("shape and pose", [&] {
+      return gatedFit(input, options.poseInit, options.fit, options.gate);
+    });
+    out.fit = std::move(g.fit);
+    out.start = g.start;
+    out.startScore = g.score;
+    out.startScores = g.scores;
+    for (const std::string& w : g.warnings) out.warnings.push_back(w);
+  }
   for (const std::string& w : out.fit.warnings) out.warnings.push_back(w);
   if (out.fit.insideOrNear < 0.9)
     out.warnings.push_back("only " + std::to_string(std::lround(100 * out.fit.insideOrNear)) +

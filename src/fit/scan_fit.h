@@ -17,6 +17,7 @@
 #include "fit/nonrigid_icp.h"
 #include "fit/orientation.h"
 #include "fit/pose_init.h"
+#include "fit/pose_start.h"
 
 namespace s2p {
 
@@ -29,6 +30,10 @@ struct ScanFitOptions {
   std::optional<double> yaw;
   bool nonrigid = true;  // false: no full fit (body_full = the fitted body)
   PoseInitOptions poseInit;
+  // Without keypoints: a short fit from several starts, the best finished (pose_start.h).
+  // false: the geometric initialisation alone, the rest pose when it fails.
+  bool multiStart = true;
+  GatedFitOptions gate;
   BodyFitOptions fit;
   NonrigidIcpOptions icp;
   // Issue 17: a scan of more than 1.5 × this many vertices is fitted on a decimated copy of
@@ -42,13 +47,21 @@ struct ScanFit {
   Orientation orientation;  // as estimated (or the given yaw, with confidence 1)
   // Fitting frame (the scan turned to face +Z) → the scan's normalised frame.
   Eigen::Affine3d toScan = Eigen::Affine3d::Identity();
-  std::string initialisation;  // "geometry", "keypoints" or "rest" (initialisation failed)
-  BodyFitResult fit;           // params, posed body, stages: in the fitting frame
-  TriMesh full;                // the non-rigid fit (faces of the model), fitting frame
-  double fullMeanDistance = 0;  // metres, full-fit vertices to the scan
+  // "multi-start", "keypoints", or without multiStart "geometry" or "rest" (initialisation
+  // failed).
+  std::string initialisation;
+  // The start the fit was finished from: "keypoints", "geometry", "arms down" or "rest".
+  std::string start;
+  double startScore = 0;                // metres: its two-sided distance (pose_start.h), 0
+                                        // without multi-start
+  std::vector<StartScore> startScores;  // every start tried (multi-start only)
+  BodyFitResult fit;                    // params, posed body, stages: in the fitting frame
+  TriMesh full;                         // the non-rigid fit (faces of the model), fitting frame
+  double fullMeanDistance = 0;          // metres, full-fit vertices to the scan
   int fullIterations = 0;
   // Seconds per step: "decimated copy" (a large scan only), "orientation", "pose
-  // initialisation", "shape and pose", "non-rigid".
+  // initialisation" (not with multi-start: inside "shape and pose"), "shape and pose",
+  // "non-rigid".
   std::vector<std::pair<std::string, double>> timings;
   std::vector<std::string> warnings;
   double seconds = 0;
