@@ -34,7 +34,7 @@ bool degenerate(double cross2, double scale2) {
 
 }  // namespace
 
-Eigen::SparseMatrix<double> cotanLaplacian(const TriMesh& mesh) {
+Eigen::SparseMatrix<double> cotanLaplacian(const TriMesh& mesh, double maxCotangent) {
   checkIndices(mesh, "cotanLaplacian");
   const int nV = mesh.numVertices(), nF = mesh.numFaces();
   // Off-diagonal entries bucketed by column (counting sort), then merged per column: a direct
@@ -55,8 +55,10 @@ Eigen::SparseMatrix<double> cotanLaplacian(const TriMesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       const int i = mesh.F(f, (k + 1) % 3), j = mesh.F(f, (k + 2) % 3);
       // cot of the angle at corner k = (e1·e2)/|e1×e2|; the edge opposite k gets −½cot.
-      const double w =
-          skip ? 0.0 : -0.5 * (p[(k + 1) % 3] - p[k]).dot(p[(k + 2) % 3] - p[k]) * invDoubleArea;
+      const double w = skip ? 0.0
+                            : -0.5 * std::clamp((p[(k + 1) % 3] - p[k]).dot(p[(k + 2) % 3] - p[k]) *
+                                                    invDoubleArea,
+                                                -maxCotangent, maxCotangent);
       rowOf[fill[j]] = i;
       valOf[fill[j]++] = w;
       rowOf[fill[i]] = j;

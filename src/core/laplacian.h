@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <limits>
 
 #include "core/tri_mesh.h"
 
@@ -14,7 +15,12 @@ namespace s2p {
 //   L_ij = −½(cot α_ij + cot β_ij) for each edge ij,  L_ii = −Σ_j L_ij,
 // so uᵀLu = ∫|∇u|² (Dirichlet energy ×2) and M + tL is SPD for t ≥ 0. Rows sum to zero.
 // Degenerate (zero-area) faces contribute nothing.
-Eigen::SparseMatrix<double> cotanLaplacian(const TriMesh& mesh);
+// maxCotangent: each cotangent clamped to ±this. A near-degenerate face (an angle of 1e-14 rad,
+// which a scan's 1 mm quantisation or an exact cut's sliver makes) has a cotangent of 1e14, and
+// squared in a bilaplacian it outweighs the rest of the operator by 1e28: no Cholesky factor
+// exists in double precision. An angle below 0.06° (cot 1e3) says nothing about the surface.
+Eigen::SparseMatrix<double> cotanLaplacian(
+    const TriMesh& mesh, double maxCotangent = std::numeric_limits<double>::infinity());
 
 enum class MassType {
   Voronoi,     // mixed Voronoi areas (Meyer et al. 2003): obtuse triangles split ½ / ¼ / ¼

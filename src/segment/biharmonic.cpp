@@ -64,7 +64,9 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
     if (!(area[v] > 0))
       throw InputError("biharmonic: vertex " + std::to_string(v) +
                        " has no area (unreferenced or only in degenerate faces); clean the mesh");
-  const Sparse L = cotanLaplacian(mesh);
+  // Cotangents clamped to ±1e3 (core/laplacian.h): phone_scan's 1 mm grid left faces whose
+  // bilaplacian diagonal reached 1e36 beside a median of 1e4, and its seams could not be solved.
+  const Sparse L = cotanLaplacian(mesh, 1e3);
   std::vector<Eigen::Triplet<double>> pattern;  // every face pair, so CᵀC ⊂ pattern(Q)
   pattern.reserve(9 * mesh.numFaces() + nV);
   for (int f = 0; f < mesh.numFaces(); ++f)
