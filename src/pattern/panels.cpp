@@ -259,12 +259,14 @@ class GarmentPanelizer {
     topo_ = std::make_unique<MeshTopology>(seamed_.mesh.F, seamed_.mesh.numVertices());
     if (seamed_.seams.empty()) {
       const bool disk = topo.boundaryLoops().size() == 1 && topo.eulerCharacteristic() == 1;
+      std::string why;  // each seam's reason, so the user sees which feature failed
+      for (const SeamLine& s : gp.seams) why += fmt::format("; {}: {}", s.name, s.removedWhy);
       if (!disk)
         throw TopologyError(fmt::format(
             "pattern: no seam line survived on garment '{}' and it is not a disk ({} openings, "
             "χ = {}): it cannot be flattened as one panel. Check the body fit (fit/) and the "
-            "segmentation (segment/)",
-            garment_.name, topo.boundaryLoops().size(), topo.eulerCharacteristic()));
+            "segmentation (segment/){}",
+            garment_.name, topo.boundaryLoops().size(), topo.eulerCharacteristic(), why));
       result_.warnings.push_back(
           fmt::format("garment '{}': no seam line survived; kept as one panel", garment_.name));
     }
@@ -783,12 +785,24 @@ int fillScanHoles(PanelsInput::Garment& g, const BodyFrame& frame, double minOpe
       continue;
     const std::vector<int>& loop = openings[i].vertices;
     if (loop.size() < 3) continue;
-    const int c = g.mesh.numVertices() + static_cast<int>(newV.size());
     Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
     for (int v : loop) centre += g.mesh.V.row(v);
-    newV.push_back(centre / static_cast<double>(loop.size()));
+    centre /= static_cast<double>(loop.size());
+    // A slit-like hole (its loop doubling back on itself, as a 1 mm grid leaves them) has its
+    // centroid on its own border: a fan around it has no area, and the new vertex none either
+    // (no Laplacian, no mass). Such a hole is closed by a fan from one of its own vertices.
+    double fanArea = 0, perimeter = 0;
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const Eigen::RowVector3d a = g.mesh.V.row(loop[k]), b = g.mesh.V.row(loop[(k + 1) % loop.size()]);
+      fanArea += 0.5 * (a - centre).cross(b - centre).norm();
+      perimeter += (b - a).norm();
+    }
+    const bool slit = !(fanArea > 1e-4 * perimeter * perimeter);
+    const int c = slit ? loop[0] : g.mesh.numVertices() + static_cast<int>(newV.size());
+    if (!slit) newV.push_back(centre);
     for (size_t k = 0; k < loop.size(); ++k) {
       const int a = loop[k], b = loop[(k + 1) % loop.size()];
+      if (a == c || b == c) continue;
       // The surface lies left of a → b, so the fill face runs b → a.
       newF.push_back({b, a, c});
       const int e = topo.findEdge(a, b);
