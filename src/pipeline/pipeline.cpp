@@ -1,5 +1,7 @@
 #include "pipeline/pipeline.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
 
 #include "core/error.h"
@@ -110,6 +112,16 @@ PipelineResult runPipeline(const Scan& scan, const BodyModel& model, const Pipel
       progress.end();
       out.stages.emplace_back("drape", secondsSince(t));
     }
+  } catch (const SolverError& e) {
+    // A solver's own words (a matrix, a pivot) tell the user nothing: say where and what to do.
+    progress.end();
+    out.patternErrorMessage = fmt::format(
+        "pattern stage: a linear system could not be solved ({}). fit/ and segment/ are "
+        "written; the garments' meshes may hold near-degenerate triangles: look at "
+        "segment/segment_labels.png, try `scan2pattern convert` on the scan, or report it with "
+        "the scan",
+        e.what());
+    out.patternError = std::make_exception_ptr(SolverError(out.patternErrorMessage));
   } catch (const Error& e) {
     progress.end();
     out.patternError = std::current_exception();
