@@ -466,6 +466,14 @@ class Segmenter {
         job.regions.push_back(kHair);
         job.positive.push_back(true);
       }
+      // The lower garment's colour is no skin either. Where the hands touch the thighs (a relaxed
+      // stance) the scan joins them, and with two labels the skin side flowed over trousers whose
+      // colour lies nearer the skin's than the top's (studio_relaxed: khaki chinos under a green
+      // shirt, all cut away as skin).
+      if (hasLower && out.layout == GarmentLayout::UpperLower) {
+        job.regions.push_back(kLower);
+        job.positive.push_back(false);
+      }
       job.deltaE = separation(kUpper, kSkin);
       job.offsetRegion = kUpper;
       // A torso of this person's skin colour lying near the body: the geometry alone finds the
