@@ -19,6 +19,12 @@ double meanDistance(const MeshQuery& to, const Eigen::MatrixX3d& points) {
   return sum / static_cast<double>(points.rows());
 }
 
+// twoSidedDistance with the queries built by the caller (the scan's is shared by every start).
+double twoSided(const TriMesh& body, const MeshQuery& bodyQuery, const TriMesh& scan,
+                const MeshQuery& scanQuery) {
+  return 0.5 * (meanDistance(bodyQuery, scan.V) + meanDistance(scanQuery, body.V));
+}
+
 // A body fit starting from `start` (a copy of input with it as the initial parameters).
 BodyFitResult fitFrom(const BodyFitInput& input, const BodyParams& start,
                       const BodyFitOptions& options) {
@@ -29,8 +35,7 @@ BodyFitResult fitFrom(const BodyFitInput& input, const BodyParams& start,
 }  // namespace
 
 double twoSidedDistance(const TriMesh& body, const TriMesh& scan) {
-  const MeshQuery bodyQuery(body), scanQuery(scan);
-  return 0.5 * (meanDistance(bodyQuery, scan.V) + meanDistance(scanQuery, body.V));
+  return twoSided(body, MeshQuery(body), scan, MeshQuery(scan));
 }
 
 GatedFitResult gatedFit(const BodyFitInput& input, const PoseInitOptions& poseInit,
@@ -63,9 +68,7 @@ GatedFitResult gatedFit(const BodyFitInput& input, const PoseInitOptions& poseIn
   double bestScore = std::numeric_limits<double>::infinity();
   for (int i = 0; i < static_cast<int>(starts.size()); ++i) {
     const BodyFitResult r = fitFrom(input, starts[i].params, brief);
-    const MeshQuery bodyQuery(r.body.mesh);
-    const double score =
-        0.5 * (meanDistance(bodyQuery, input.scan.V) + meanDistance(scanQuery, r.body.mesh.V));
+    const double score = twoSided(r.body.mesh, MeshQuery(r.body.mesh), input.scan, scanQuery);
     out.scores.push_back({starts[i].name, score});
     // The geometric start (first when found) is replaced only by a clearly better one.
     const double margin = best == 0 && starts[0].name == "geometry" ? options.geometryMargin : 0;

@@ -793,7 +793,8 @@ int fillScanHoles(PanelsInput::Garment& g, const BodyFrame& frame, double minOpe
     // (no Laplacian, no mass). Such a hole is closed by a fan from one of its own vertices.
     double fanArea = 0, perimeter = 0;
     for (size_t k = 0; k < loop.size(); ++k) {
-      const Eigen::RowVector3d a = g.mesh.V.row(loop[k]), b = g.mesh.V.row(loop[(k + 1) % loop.size()]);
+      const Eigen::RowVector3d a = g.mesh.V.row(loop[k]);
+      const Eigen::RowVector3d b = g.mesh.V.row(loop[(k + 1) % loop.size()]);
       fanArea += 0.5 * (a - centre).cross(b - centre).norm();
       perimeter += (b - a).norm();
     }
