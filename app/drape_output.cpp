@@ -107,8 +107,23 @@ json drapeToJson(const PipelineResult& run) {
                         {"p95_mm", g.comparison.p95Mm()},
                         {"max_mm", g.comparison.maxMm()}});
   }
+  json coarse = nullptr;  // the coarse drape the result started from (drape/coarse_to_fine.h)
+  if (d.coarseToFine) {
+    const DrapeResult& c = d.twoLevel.coarse;
+    coarse = {{"vertices", d.coarseVertices},
+              {"status", toString(c.status)},
+              {"sew_steps", c.sewSteps},
+              {"drape_steps", c.drapeSteps},
+              {"stitches_sewn", c.sewnStitches},
+              {"self_intersections", c.selfIntersections},
+              {"seconds", c.seconds},
+              {"carried", d.twoLevel.carried},
+              {"carried_max_stitch_gap_mm", 1e3 * d.twoLevel.carriedGap},
+              {"carried_max_outside_mm", 1e3 * d.twoLevel.carriedOutside}};
+  }
   return {{"ran", true},
           {"status", toString(r.status)},
+          {"coarse", coarse},
           {"failure", r.failure},
           {"sew_steps", r.sewSteps},
           {"drape_steps", r.drapeSteps},

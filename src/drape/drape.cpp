@@ -397,7 +397,7 @@ void ClothSim::build(const DrapeInput& input) {
   scene_.max().array() += grow;
 
   // Vertices that start inside the body (as placed): counted per panel and warned.
-  for (size_t p = 0; p < input.panels.size(); ++p) {
+  for (size_t p = 0; p < input.panels.size() && !o_.startsDraped; ++p) {
     int inside = 0;
     for (int v = result_.panelOffset[p]; v < result_.panelOffset[p + 1]; ++v)
       inside += sdf_->sample(x_[v]).distance < 0;
@@ -408,7 +408,7 @@ void ClothSim::build(const DrapeInput& input) {
           input.panels[p].name, inside, input.panels[p].numVertices()));
     result_.startInsideBody += inside;
   }
-  wrapSelfSewnPanels(input);
+  if (!o_.startsDraped) wrapSelfSewnPanels(input);
   // Then every vertex closer than the thickness (as placed, or wrapped against the body where a
   // sleeve meets the torso) is moved out before the first step.
   for (int v = 0; v < nv_; ++v) {

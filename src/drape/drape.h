@@ -81,6 +81,11 @@ struct DrapeOptions {
 
   double jitter = 1e-5;  // metres: seeded noise on the start positions (breaks symmetry)
   unsigned seed = 0;
+
+  // The start is already a drape (a coarser drape carried onto this mesh, coarse_to_fine.h):
+  // no panel is wrapped round its limb and vertices closer to the body than the thickness are
+  // pushed out without a placement warning.
+  bool startsDraped = false;
 };
 
 enum class DrapeStatus {

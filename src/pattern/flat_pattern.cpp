@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "core/error.h"
-#include "pattern/uv_locator.h"
+#include "core/uv_locator.h"
 
 namespace s2p {
 
@@ -307,6 +307,33 @@ void remesh(const Panel& panel, const TriMesh& scan, const std::vector<int>& cou
   }
 }
 
+// Boundary samples of a stitched pair: the count of its mean 2D length (of the one flattened
+// panel when the other was not).
+int pairSampleCount(const std::vector<FlatPanel>& panels, const SeamPair& s, double target) {
+  const bool a = panels[s.panelA].error.empty(), b = panels[s.panelB].error.empty();
+  const double mean = a && b ? 0.5 * (s.lengthA + s.lengthB) : std::max(s.lengthA, s.lengthB);
+  return boundarySampleCount(mean, target);
+}
+
+// Per panel and edge, its boundary samples at the target edge length: a stitched pair shares
+// one count, so that a simulator can pair the two edges vertex to vertex. Panels that were not
+// flattened get none.
+std::vector<std::vector<int>> sampleCounts(const std::vector<FlatPanel>& panels,
+                                           const std::vector<SeamPair>& pairs, double target) {
+  std::vector<std::vector<int>> counts(panels.size());
+  for (size_t p = 0; p < panels.size(); ++p) {
+    if (!panels[p].error.empty()) continue;
+    for (const FlatEdge& e : panels[p].edges)
+      counts[p].push_back(boundarySampleCount(e.length2d, target));
+  }
+  for (const SeamPair& s : pairs) {
+    const int n = pairSampleCount(panels, s, target);
+    if (!counts[s.panelA].empty()) counts[s.panelA][s.edgeA] = n;
+    if (!counts[s.panelB].empty()) counts[s.panelB][s.edgeB] = n;
+  }
+  return counts;
+}
+
 }  // namespace
 
 Eigen::Vector3d panelGrain(const Panel& panel, const BodyFrame& frame) {
@@ -351,29 +378,14 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
   for (size_t p = 0; p < panels.panels.size(); ++p)
     if (r.panels[p].error.empty()) outline(panels.panels[p], options, r.panels[p]);
   if (options.walkSeams) walkSeams(panels, pairs, options, r);
-  // Sample counts: a stitched pair shares the count of its mean 2D length, so that a simulator
-  // can pair the two edges vertex to vertex.
-  std::vector<std::vector<int>> counts(panels.panels.size());
-  const double target = options.remesh.targetEdgeLength;
-  for (size_t p = 0; p < panels.panels.size(); ++p) {
-    const FlatPanel& fp = r.panels[p];
-    if (!fp.error.empty()) continue;
-    counts[p].resize(fp.edges.size());
-    for (size_t e = 0; e < fp.edges.size(); ++e)
-      counts[p][e] = boundarySampleCount(fp.edges[e].length2d, target);
-  }
   for (SeamPair& s : pairs) {
-    const FlatPanel& fa = r.panels[s.panelA];
-    const FlatPanel& fb = r.panels[s.panelB];
     // The lengths a simulator and a pattern maker see: the Bézier chains'.
-    if (fa.error.empty()) s.lengthA = fa.edges[s.edgeA].chain.length();
-    if (fb.error.empty()) s.lengthB = fb.edges[s.edgeB].chain.length();
-    const double mean = fa.error.empty() && fb.error.empty() ? 0.5 * (s.lengthA + s.lengthB)
-                                                             : std::max(s.lengthA, s.lengthB);
-    s.samples = boundarySampleCount(mean, target);
-    if (fa.error.empty()) counts[s.panelA][s.edgeA] = s.samples;
-    if (fb.error.empty()) counts[s.panelB][s.edgeB] = s.samples;
+    if (r.panels[s.panelA].error.empty()) s.lengthA = r.panels[s.panelA].edges[s.edgeA].chain.length();
+    if (r.panels[s.panelB].error.empty()) s.lengthB = r.panels[s.panelB].edges[s.edgeB].chain.length();
   }
+  const std::vector<std::vector<int>> counts =
+      sampleCounts(r.panels, pairs, options.remesh.targetEdgeLength);
+  for (SeamPair& s : pairs) s.samples = pairSampleCount(r.panels, s, options.remesh.targetEdgeLength);
   r.seams = std::move(pairs);
   for (size_t p = 0; p < panels.panels.size(); ++p) {
     FlatPanel& fp = r.panels[p];
@@ -412,6 +424,29 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
   }
   r.seconds = secondsSince(t0);
   return r;
+}
+
+std::vector<RemeshedPanel> remeshOutlines(const FlatPatternResult& flat,
+                                          const RemeshOptions& options,
+                                          std::vector<std::string>* errors) {
+  const std::vector<std::vector<int>> counts =
+      sampleCounts(flat.panels, flat.seams, options.targetEdgeLength);
+  std::vector<RemeshedPanel> out(flat.panels.size());
+  std::vector<std::string> why(flat.panels.size());
+  tbb::parallel_for(size_t{0}, flat.panels.size(), [&](size_t p) {
+    const FlatPanel& fp = flat.panels[p];
+    if (!fp.error.empty() || fp.remeshed.V.rows() == 0) return;
+    std::vector<Eigen::MatrixX2d> samples;
+    for (size_t e = 0; e < fp.edges.size(); ++e)
+      samples.push_back(resampleChain(fp.edges[e].chain, counts[p][e]));
+    try {
+      out[p] = remeshPanel(samples, fmt::format("panel {}", p), options);
+    } catch (const Error& e) {
+      why[p] = e.what();
+    }
+  });
+  if (errors) *errors = std::move(why);
+  return out;
 }
 
 }  // namespace s2p

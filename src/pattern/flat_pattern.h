@@ -104,4 +104,13 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
                                  const BodyFrame& frame, const FlatPatternOptions& options = {},
                                  const std::vector<PanelReshape>& reshape = {});
 
+// The same pattern at another resolution: every flattened panel's outline (its Bézier edges as
+// they are) remeshed with `options`, each stitched pair of flat.seams given one sample count as
+// runFlatPattern does, so that FlatEdge k of a panel is edgeVertices[k] of its new mesh and
+// stitched edges still pair vertex to vertex (a coarse copy for the drape). A panel that was not
+// flattened, or that cannot be remeshed so, gets an empty mesh and, in errors (#panels), why.
+std::vector<RemeshedPanel> remeshOutlines(const FlatPatternResult& flat,
+                                          const RemeshOptions& options,
+                                          std::vector<std::string>* errors = nullptr);
+
 }  // namespace s2p

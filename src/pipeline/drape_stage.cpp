@@ -43,6 +43,51 @@ DrapeInput drapeInput(const PatternResult& pattern, std::vector<int>* panelOf) {
   return in;
 }
 
+DrapeInput coarseDrapeInput(const PatternResult& pattern, const std::vector<int>& panelOf,
+                            double edge, std::string* why) {
+  RemeshOptions ro;
+  ro.targetEdgeLength = edge;
+  std::vector<std::string> errors;
+  const std::vector<RemeshedPanel> meshes = remeshOutlines(pattern.flat, ro, &errors);
+  DrapeInput in;
+  const Placement& pl = pattern.placement;
+  std::vector<int> cloth(pattern.flat.panels.size(), -1);
+  for (size_t c = 0; c < panelOf.size(); ++c) {
+    const int p = panelOf[c];
+    const RemeshedPanel& m = meshes[p];
+    const Panel& panel = pattern.panels.panels[p];
+    if (m.V.rows() == 0) {
+      if (why)
+        *why = fmt::format("panel '{} {}' could not be remeshed at {:.0f} mm: {}", panel.garment,
+                           panel.name, 1e3 * edge, errors[p]);
+      return {};
+    }
+    ClothPanel cp;
+    cp.name = panel.garment + "_" + panel.name;
+    cp.rest2d = m.V;
+    cp.F = m.F;
+    // The placement is rigid: 3D = R·(x, y, 0) + t (placement.h).
+    const PlacedPanel& placed = pl.panels[p];
+    cp.start = (m.V * placed.R.leftCols<2>().transpose()).rowwise() + placed.t.transpose();
+    cloth[p] = static_cast<int>(in.panels.size());
+    in.panels.push_back(std::move(cp));
+  }
+  for (const Stitch& s : pattern.stitches.stitches) {
+    const int a = cloth[s.panelA], b = cloth[s.panelB];
+    if (a < 0 || b < 0) continue;
+    const std::vector<int>& ea = meshes[s.panelA].edgeVertices[s.edgeA];
+    const std::vector<int>& eb = meshes[s.panelB].edgeVertices[s.edgeB];
+    if (ea.size() != eb.size()) {  // remeshOutlines gives a stitched pair one count
+      if (why) *why = fmt::format("seam '{}' has {} and {} coarse vertices", s.name, ea.size(), eb.size());
+      return {};
+    }
+    // As makeStitches: vertex k of edge A to vertex n−1−k of edge B.
+    for (size_t k = 0, n = ea.size(); k < n; ++k) in.stitches.push_back({a, ea[k], b, eb[n - 1 - k]});
+  }
+  in.body = pl.underBody.numFaces() > 0 ? pl.underBody : pl.restBody;
+  return in;
+}
+
 Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& body,
                              const Placement& placement) {
   if (!body.model) throw InputError("drape: the fitted body has no model to unpose the garments");
@@ -75,7 +120,27 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
     out.warnings.push_back("drape: skipped, no panel was flattened and placed");
     return out;
   }
-  out.drape = runDrape(in, options.drape);
+  // Coarse to fine when the coarse mesh has markedly fewer vertices than the pattern's own.
+  DrapeInput coarse;
+  std::string why;
+  if (options.coarseEdge > 0) coarse = coarseDrapeInput(pattern, out.panelOf, options.coarseEdge, &why);
+  int fineVertices = 0;
+  for (const ClothPanel& p : in.panels) fineVertices += p.numVertices();
+  for (const ClothPanel& p : coarse.panels) out.coarseVertices += p.numVertices();
+  if (options.coarseEdge > 0 && coarse.panels.empty())
+    out.warnings.push_back(fmt::format("drape: sewn at the pattern's own resolution only ({})", why));
+  if (!coarse.panels.empty() && 2 * out.coarseVertices < fineVertices) {
+    out.twoLevel = runDrapeCoarseToFine(in, coarse, options.drape, options.coarseToFine);
+    out.drape = std::move(out.twoLevel.fine);
+    out.twoLevel.fine = DrapeResult{};
+    out.coarseToFine = true;
+    if (out.twoLevel.carried)
+      for (const std::string& w : out.twoLevel.coarse.warnings)
+        out.warnings.push_back(fmt::format("coarse ({:.0f} mm) {}", 1e3 * options.coarseEdge, w));
+  } else {
+    out.drape = runDrape(in, options.drape);
+    out.coarseVertices = 0;
+  }
   out.ran = true;
   for (const std::string& w : out.drape.warnings) out.warnings.push_back(w);
 

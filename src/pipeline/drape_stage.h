@@ -9,6 +9,7 @@
 
 #include "core/tri_mesh.h"
 #include "drape/compare.h"
+#include "drape/coarse_to_fine.h"
 #include "drape/drape.h"
 
 namespace s2p {
@@ -16,6 +17,11 @@ namespace s2p {
 struct DrapeStageOptions {
   bool enabled = false;  // the stage runs only when asked (--drape): see DrapeStageOptions
   DrapeOptions drape;
+  // Metres: the pattern is first sewn and draped remeshed at this edge, then carried onto its own
+  // mesh and settled there (drape/coarse_to_fine.h); 0, or no coarser than the pattern's own
+  // mesh: sewn and draped at the pattern's resolution only.
+  double coarseEdge = 0.03;
+  CoarseToFineOptions coarseToFine;
 };
 
 // One garment of the drape: its draped panels against its scanned mesh in the drape pose.
@@ -30,7 +36,11 @@ struct GarmentDrape {
 
 struct DrapeStage {
   bool ran = false;            // false: disabled, or nothing to drape (see warnings)
-  DrapeResult drape;           // the simulation and its figures
+  DrapeResult drape;           // the simulation and its figures (at the pattern's resolution)
+  bool coarseToFine = false;   // drape came from a coarse drape carried onto the pattern's mesh
+  CoarseToFineDrape twoLevel;  // when coarseToFine: the coarse drape and the carrying (its
+                               // `fine` is moved into drape)
+  int coarseVertices = 0;      // cloth vertices of the coarse mesh
   std::vector<int> panelOf;    // cloth panel → PatternResult panel
   std::vector<int> garmentOf;  // cloth panel → GarmentDrape (−1: its garment was not compared)
   std::vector<GarmentDrape> garments;

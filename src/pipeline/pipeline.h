@@ -73,6 +73,11 @@ PatternResult runPattern(const PanelsInput& input, const PosedFeatures& body, co
 // shape = the remeshed flat panel, start = its placement), every stitch's vertex pairs, the rest
 // body. panelOf (may be null) receives each cloth panel's PatternResult panel.
 DrapeInput drapeInput(const PatternResult& pattern, std::vector<int>* panelOf = nullptr);
+// The same cloth with every panel remeshed at `edge` metres (pattern/flat_pattern.h's
+// remeshOutlines), placed by the same rigid placement and stitched along the same seams. Empty
+// (no panels) when a panel of `fine`'s cannot be remeshed so; `why` says which.
+DrapeInput coarseDrapeInput(const PatternResult& pattern, const std::vector<int>& panelOf,
+                            double edge, std::string* why = nullptr);
 
 // Points of the garments' (scan) frame moved to the drape pose of placement's rest frame by
 // linear blend skinning: each point takes the skinning weights of its closest point on the

@@ -13,7 +13,7 @@
 #include "panel_shapes.h"
 #include "pattern/bezier_outline.h"
 #include "pattern/flatten.h"
-#include "pattern/uv_locator.h"
+#include "core/uv_locator.h"
 
 namespace s2p {
 namespace {

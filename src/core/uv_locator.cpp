@@ -1,4 +1,4 @@
-#include "pattern/uv_locator.h"
+#include "core/uv_locator.h"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>

@@ -1,0 +1,53 @@
+// Sewing and draping at two resolutions. A pattern remeshed at its default 10 mm edge has ~40k
+// vertices for a t-shirt and trousers, and XPBD at one iteration per substep needs hundreds of
+// steps to sew it and bring it to rest (1166 s on the 2 cores, bench/RESULTS.md "Drape IV"): the
+// number of steps grows with the resolution as well as the cost of each. The same pattern remeshed
+// coarser (a tenth of the vertices) sews and settles in seconds. Its drape is carried onto the
+// fine mesh through the flat pattern both share: each fine vertex's 2D position is located in
+// its panel's coarse 2D mesh, and its start is the draped coarse triangle's point at the same
+// barycentric weights. The fine mesh so starts sewn (stitched partners land on the same welded
+// coarse seam) and hanging, and a short drape at its own resolution settles what the coarse mesh
+// could not represent (folds finer than its edges, the contact with the body between its
+// vertices). The fine drape is the result: its figures, seams and rest are judged as always.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "drape/drape.h"
+
+namespace s2p {
+
+struct CoarseToFineOptions {
+  int fineMinSteps = 20;   // steps of the fine drape at least (two rest windows of 10)
+  int fineMaxSteps = 150;  // its budget: the cloth starts near its rest
+  int fineSewSteps = 30;   // budget for the few stitch pairs the carrying left open
+};
+
+struct CoarseToFineDrape {
+  DrapeResult coarse;  // the coarse mesh sewn and draped
+  DrapeResult fine;    // the fine mesh from the carried drape (the coarse result when the coarse
+                       // drape did not settle: nothing to carry)
+  bool carried = false;       // the fine mesh was started from the coarse drape
+  double carriedGap = 0;      // metres: the widest stitch gap of the fine mesh as carried
+  double carriedOutside = 0;  // metres: farthest a fine vertex lies outside its coarse panel (2D)
+  double seconds = 0;         // both drapes and the carrying
+};
+
+// The fine panels' start carried from a drape of the coarse ones: per panel, fine.panels[p]
+// (rest2d) located in coarse.panels[p] (rest2d, F), its point on draped[p] (#V of the coarse
+// panel × 3). Both inputs must list the same panels, each in the same 2D frame. outside: the
+// farthest a fine vertex lies outside its coarse panel in 2D (a curved outline sampled less
+// densely), metres. Throws InputError when the panels do not correspond.
+std::vector<Eigen::MatrixX3d> carryDrape(const DrapeInput& coarse,
+                                         const std::vector<Eigen::MatrixX3d>& draped,
+                                         const DrapeInput& fine, double* outside = nullptr);
+
+// Sews and drapes `coarse` with `options`, carries the drape onto `fine` and drapes it from there
+// (options with startsDraped and the fine budgets). fine and coarse: the same pattern at two
+// resolutions (same panels, same 2D frames, each with its own stitches).
+CoarseToFineDrape runDrapeCoarseToFine(const DrapeInput& fine, const DrapeInput& coarse,
+                                       const DrapeOptions& options = {},
+                                       const CoarseToFineOptions& c2f = {});
+
+}  // namespace s2p
