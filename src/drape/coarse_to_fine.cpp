@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <numeric>
 
 #include "core/error.h"
 #include "core/uv_locator.h"
@@ -58,17 +59,47 @@ CoarseToFineDrape runDrapeCoarseToFine(const DrapeInput& fine, const DrapeInput&
   DrapeInput start = fine;
   const std::vector<Eigen::MatrixX3d> carried =
       carryDrape(coarse, out.coarse.panels, fine, &out.carriedOutside);
-  for (size_t p = 0; p < start.panels.size(); ++p) start.panels[p].start = carried[p];
   for (const ClothStitch& s : fine.stitches)
     out.carriedGap = std::max(out.carriedGap, (carried[s.panelA].row(s.vertexA) -
                                                carried[s.panelB].row(s.vertexB))
                                                   .norm());
+  // Partners land on the coarse seam up to how the two outlines were sampled (a millimetre or
+  // so): each group of vertices the stitches join (two, or four at a junction) starts at its
+  // mean, sewn from the first step.
+  std::vector<int> offset(fine.panels.size() + 1, 0);
+  for (size_t p = 0; p < fine.panels.size(); ++p)
+    offset[p + 1] = offset[p] + fine.panels[p].numVertices();
+  std::vector<int> root(offset.back());
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int v) {
+    while (root[v] != v) v = root[v] = root[root[v]];
+    return v;
+  };
+  for (const ClothStitch& s : fine.stitches)
+    root[find(offset[s.panelA] + s.vertexA)] = find(offset[s.panelB] + s.vertexB);
+  std::vector<Eigen::Vector3d> sum(root.size(), Eigen::Vector3d::Zero());
+  std::vector<int> count(root.size(), 0);
+  for (size_t p = 0; p < fine.panels.size(); ++p)
+    for (int v = 0; v < fine.panels[p].numVertices(); ++v) {
+      const int r = find(offset[p] + v);
+      sum[r] += carried[p].row(v).transpose();
+      ++count[r];
+    }
+  for (size_t p = 0; p < fine.panels.size(); ++p) {
+    start.panels[p].start = carried[p];
+    for (int v = 0; v < fine.panels[p].numVertices(); ++v) {
+      const int r = find(offset[p] + v);
+      if (count[r] > 1) start.panels[p].start.row(v) = (sum[r] / count[r]).transpose();
+    }
+  }
   DrapeOptions o = options;
   o.startsDraped = true;
   o.sewMaxSteps = c2f.fineSewSteps;
   o.sewSettleSteps = 0;
   o.drapeMinSteps = c2f.fineMinSteps;
   o.drapeMaxSteps = c2f.fineMaxSteps;
+  if (c2f.fineSubsteps > 0) o.substeps = c2f.fineSubsteps;
+  if (!c2f.fineGravity) o.gravity.setZero();
   out.fine = runDrape(start, o);
   out.carried = true;
   return finish();

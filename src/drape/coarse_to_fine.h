@@ -21,7 +21,14 @@ namespace s2p {
 struct CoarseToFineOptions {
   int fineMinSteps = 20;   // steps of the fine drape at least (two rest windows of 10)
   int fineMaxSteps = 150;  // its budget: the cloth starts near its rest
-  int fineSewSteps = 30;   // budget for the few stitch pairs the carrying left open
+  int fineSewSteps = 30;   // budget for stitch pairs the carrying left open (none: see below)
+  int fineSubsteps = 6;    // XPBD substeps per step of the fine drape; 0: DrapeOptions' own
+  // Gravity in the fine drape. Off by default: the coarse drape already hangs the cloth, and the
+  // fine mesh relaxes to its own pattern (stretch, bending) and contacts from there. On, a fine
+  // mesh's single-sweep solver must carry the hanging load through corners of a few small
+  // triangles (the neck ends of the shoulder seams stretched past 3× within 12 steps at 6
+  // substeps, 2.3× at 12; bench/RESULTS.md "Drape V").
+  bool fineGravity = false;
 };
 
 struct CoarseToFineDrape {
@@ -29,7 +36,8 @@ struct CoarseToFineDrape {
   DrapeResult fine;    // the fine mesh from the carried drape (the coarse result when the coarse
                        // drape did not settle: nothing to carry)
   bool carried = false;       // the fine mesh was started from the coarse drape
-  double carriedGap = 0;      // metres: the widest stitch gap of the fine mesh as carried
+  double carriedGap = 0;      // metres: the widest stitch gap of the fine mesh as carried (the
+                              // partners then start at their mean: one point of the sewn seam)
   double carriedOutside = 0;  // metres: farthest a fine vertex lies outside its coarse panel (2D)
   double seconds = 0;         // both drapes and the carrying
 };

@@ -1052,6 +1052,13 @@ void ClothSim::run() {
     return ok;
   };
 
+  // A start that is already a drape has its seams closed: sewn before the first step.
+  if (o_.startsDraped) {
+    sewClosedStitches();
+    markNearOpenStitches();
+    weldSewn();
+  }
+
   // Phase 1: sew, gravity off, seams closing at most sewSpeed.
   gravity_.setZero();
   damping_ = o_.sewDamping;
