@@ -60,9 +60,9 @@ CoarseToFineDrape runDrapeCoarseToFine(const DrapeInput& fine, const DrapeInput&
   const std::vector<Eigen::MatrixX3d> carried =
       carryDrape(coarse, out.coarse.panels, fine, &out.carriedOutside);
   for (const ClothStitch& s : fine.stitches)
-    out.carriedGap = std::max(out.carriedGap, (carried[s.panelA].row(s.vertexA) -
-                                               carried[s.panelB].row(s.vertexB))
-                                                  .norm());
+    out.carriedGap =
+        std::max(out.carriedGap,
+                 (carried[s.panelA].row(s.vertexA) - carried[s.panelB].row(s.vertexB)).norm());
   // Partners land on the coarse seam up to how the two outlines were sampled (a millimetre or
   // so): each group of vertices the stitches join (two, or four at a junction) starts at its
   // mean, sewn from the first step.

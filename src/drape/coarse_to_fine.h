@@ -32,12 +32,12 @@ struct CoarseToFineOptions {
 };
 
 struct CoarseToFineDrape {
-  DrapeResult coarse;  // the coarse mesh sewn and draped
-  DrapeResult fine;    // the fine mesh from the carried drape (the coarse result when the coarse
-                       // drape did not settle: nothing to carry)
-  bool carried = false;       // the fine mesh was started from the coarse drape
-  double carriedGap = 0;      // metres: the widest stitch gap of the fine mesh as carried (the
-                              // partners then start at their mean: one point of the sewn seam)
+  DrapeResult coarse;     // the coarse mesh sewn and draped
+  DrapeResult fine;       // the fine mesh from the carried drape (the coarse result when the coarse
+                          // drape did not settle: nothing to carry)
+  bool carried = false;   // the fine mesh was started from the coarse drape
+  double carriedGap = 0;  // metres: the widest stitch gap of the fine mesh as carried (the
+                          // partners then start at their mean: one point of the sewn seam)
   double carriedOutside = 0;  // metres: farthest a fine vertex lies outside its coarse panel (2D)
   double seconds = 0;         // both drapes and the carrying
 };

@@ -380,12 +380,15 @@ FlatPatternResult runFlatPattern(const PanelsResult& panels, const TriMesh& scan
   if (options.walkSeams) walkSeams(panels, pairs, options, r);
   for (SeamPair& s : pairs) {
     // The lengths a simulator and a pattern maker see: the Bézier chains'.
-    if (r.panels[s.panelA].error.empty()) s.lengthA = r.panels[s.panelA].edges[s.edgeA].chain.length();
-    if (r.panels[s.panelB].error.empty()) s.lengthB = r.panels[s.panelB].edges[s.edgeB].chain.length();
+    if (r.panels[s.panelA].error.empty())
+      s.lengthA = r.panels[s.panelA].edges[s.edgeA].chain.length();
+    if (r.panels[s.panelB].error.empty())
+      s.lengthB = r.panels[s.panelB].edges[s.edgeB].chain.length();
   }
   const std::vector<std::vector<int>> counts =
       sampleCounts(r.panels, pairs, options.remesh.targetEdgeLength);
-  for (SeamPair& s : pairs) s.samples = pairSampleCount(r.panels, s, options.remesh.targetEdgeLength);
+  for (SeamPair& s : pairs)
+    s.samples = pairSampleCount(r.panels, s, options.remesh.targetEdgeLength);
   r.seams = std::move(pairs);
   for (size_t p = 0; p < panels.panels.size(); ++p) {
     FlatPanel& fp = r.panels[p];

@@ -78,11 +78,13 @@ DrapeInput coarseDrapeInput(const PatternResult& pattern, const std::vector<int>
     const std::vector<int>& ea = meshes[s.panelA].edgeVertices[s.edgeA];
     const std::vector<int>& eb = meshes[s.panelB].edgeVertices[s.edgeB];
     if (ea.size() != eb.size()) {  // remeshOutlines gives a stitched pair one count
-      if (why) *why = fmt::format("seam '{}' has {} and {} coarse vertices", s.name, ea.size(), eb.size());
+      if (why)
+        *why = fmt::format("seam '{}' has {} and {} coarse vertices", s.name, ea.size(), eb.size());
       return {};
     }
     // As makeStitches: vertex k of edge A to vertex n−1−k of edge B.
-    for (size_t k = 0, n = ea.size(); k < n; ++k) in.stitches.push_back({a, ea[k], b, eb[n - 1 - k]});
+    for (size_t k = 0, n = ea.size(); k < n; ++k)
+      in.stitches.push_back({a, ea[k], b, eb[n - 1 - k]});
   }
   in.body = pl.underBody.numFaces() > 0 ? pl.underBody : pl.restBody;
   return in;
@@ -123,12 +125,14 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
   // Coarse to fine when the coarse mesh has markedly fewer vertices than the pattern's own.
   DrapeInput coarse;
   std::string why;
-  if (options.coarseEdge > 0) coarse = coarseDrapeInput(pattern, out.panelOf, options.coarseEdge, &why);
+  if (options.coarseEdge > 0)
+    coarse = coarseDrapeInput(pattern, out.panelOf, options.coarseEdge, &why);
   int fineVertices = 0;
   for (const ClothPanel& p : in.panels) fineVertices += p.numVertices();
   for (const ClothPanel& p : coarse.panels) out.coarseVertices += p.numVertices();
   if (options.coarseEdge > 0 && coarse.panels.empty())
-    out.warnings.push_back(fmt::format("drape: sewn at the pattern's own resolution only ({})", why));
+    out.warnings.push_back(
+        fmt::format("drape: sewn at the pattern's own resolution only ({})", why));
   if (!coarse.panels.empty() && 2 * out.coarseVertices < fineVertices) {
     out.twoLevel = runDrapeCoarseToFine(in, coarse, options.drape, options.coarseToFine);
     out.drape = std::move(out.twoLevel.fine);

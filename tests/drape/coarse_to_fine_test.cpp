@@ -15,7 +15,8 @@ using Eigen::Vector3d;
 
 // A w × h rectangle gridded at about `edge`, flat at z = 0.
 ClothPanel rectangle(double w, double h, double edge) {
-  const int nx = static_cast<int>(std::lround(w / edge)), ny = static_cast<int>(std::lround(h / edge));
+  const int nx = static_cast<int>(std::lround(w / edge)),
+            ny = static_cast<int>(std::lround(h / edge));
   return makeGridPanel("rect", nx, ny, w, h, Vector3d::Zero(), Vector3d::UnitX(), Vector3d::UnitY(),
                        false)
       .panel;
