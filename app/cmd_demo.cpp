@@ -76,13 +76,14 @@ int runDemo(const fs::path& outDir, bool withDrape, Progress& progress) {
 
 void addDemoCommand(CLI::App& app, Commands& out) {
   auto outDir = std::make_shared<std::string>("demo_out");
-  auto withDrape = std::make_shared<bool>(false);
+  auto withDrape = std::make_shared<bool>(true);
   auto* cmd = app.add_subcommand("demo",
                                  "Synthesise a clothed scan of the built-in mannequin (with truth "
                                  "and previews) and run the main job on it");
   cmd->add_option("-o,--output", *outDir, "Output folder")->capture_default_str();
-  cmd->add_flag("--drape", *withDrape,
-                "Also sew and drape the pattern (OUT/drape/; experimental, see run --drape)");
+  cmd->add_flag("--drape,!--no-drape", *withDrape,
+                "Sew and drape the pattern and compare it with the scan (OUT/drape/): on by "
+                "default, as the paper's Fig. 18 ends; --no-drape skips it");
   out.push_back({cmd, [outDir, withDrape](Progress& progress) {
                    return runDemo(*outDir, *withDrape, progress);
                  }});

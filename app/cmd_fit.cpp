@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/commands.h"
+#include "app/drape_output.h"
 #include "app/fit_output.h"
 #include "app/pattern_files.h"
 #include "app/pattern_output.h"
@@ -111,7 +112,7 @@ int runFit(const FitCommand& cmd, Progress& progress) {
 struct RunCommand {
   FitCommand fit;
   bool faithful = false;
-  bool drape = false;        // --drape: the drape check after the pattern (off by default)
+  bool drape = true;         // the drape check after the pattern (--no-drape: skipped)
   int drapeSteps = -1;       // step budget of each drape phase; −1: DrapeOptions' defaults
   double remeshEdgeMm = 10;  // the panels' remeshing target edge
   PrintOptions print;
@@ -214,7 +215,26 @@ struct FitSuiteCommand {
   bool faithful = false;
   bool noNonrigid = false;
   bool singleStart = false;
+  bool drape = false;  // with segment: also sew and drape each pattern (issue 19's suite check)
 };
+
+// The drape columns of a fit-suite row: status, per garment draped-vs-scanned mean / p95 mm,
+// self-intersections and penetrations (GarmentCode's gates), seconds; the figures into row.
+std::string drapeColumns(const RunOutput& run, const fs::path& outDir, json& row) {
+  writeDrape(outDir / "drape", run);
+  row["drape"] = drapeToJson(run);
+  const DrapeStage& d = run.drape;
+  if (!d.ran) return " not run |||||";
+  std::string garments;
+  for (const GarmentDrape& g : d.garments)
+    if (g.draped.numFaces() > 0)
+      garments += fmt::format("{}{} {:.1f} / {:.1f}", garments.empty() ? "" : ", ", g.garment,
+                              g.comparison.meanMm(), g.comparison.p95Mm());
+  const DrapeResult& r = d.drape;
+  return fmt::format(" {} | {} | {} | {} | {:.1f} |", toString(r.status),
+                     garments.empty() ? "–" : garments, r.selfIntersections, r.bodyPenetrations,
+                     d.seconds);
+}
 
 Eigen::MatrixX3d applied(const Eigen::Affine3d& T, const Eigen::MatrixX3d& P) {
   return (P * T.linear().transpose()).rowwise() + T.translation().transpose();
@@ -227,11 +247,15 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
   json rows = json::array();
   std::string table = fmt::format(
       "| preset | rotation ° | joint mean mm | joint max mm (joint) | inside or ≤5 mm % | yaw "
-      "error ° | fit s |{}\n|---|---|---|---|---|---|---|{}\n",
+      "error ° | fit s |{}{}\n|---|---|---|---|---|---|---|{}{}\n",
       cmd.segment ? " garment IoU | boundary mean mm | worst p95 mm | types | panel sets | disks | "
                     "armhole − armpit mm | mirror area % | side seam ° | panels s |"
                   : "",
-      cmd.segment ? "---|---|---|---|---|---|---|---|---|---|" : "");
+      cmd.segment && cmd.drape ? " drape | draped vs scanned mean / p95 mm | self-isect | "
+                                 "penetrations | drape s |"
+                               : "",
+      cmd.segment ? "---|---|---|---|---|---|---|---|---|---|" : "",
+      cmd.segment && cmd.drape ? "---|---|---|---|---|" : "");
   for (const fs::path& truthPath : truths) {
     const std::string name = truthPath.parent_path().filename().string();
     const Truth truth = readTruth(truthPath);
@@ -253,7 +277,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
         fo.multiStart = !cmd.singleStart;
         RunOutput run;
         DrapeStageOptions drape;
-        drape.enabled = false;  // fit-suite measures the fit, segmentation and pattern
+        drape.enabled = cmd.drape;  // by default the fit, segmentation and pattern only
         if (cmd.segment)
           run = runPipeline(loaded, model, fo, so, progress, drape);
         else
@@ -296,6 +320,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
           line += fmt::format(" {:.3f} | {:.2f} | {:.2f} |", score.evaluation.meanGarmentIoU,
                               1000 * score.boundaryMean, 1000 * score.worstP95);
           line += patternColumns(run, truth, loaded.scan, outDir, row);
+          if (cmd.drape) line += drapeColumns(run, outDir, row);
         }
         table += line + "\n";
       } catch (const Error& err) {
@@ -340,11 +365,10 @@ void addFitCommands(CLI::App& app, Commands& out) {
   addPrintOptions(run, r->print);
   run->add_flag("--faithful", r->faithful,
                 "Algorithm 1 as written, slower (see segment --faithful)");
-  run->add_flag("--drape", r->drape,
-                "Also sew the pattern, drape it on the rest body and measure it against the "
-                "scanned garments (OUT/drape/). Experimental: the armpits of sleeved patterns do "
-                "not sew closed yet, and at the default 10 mm a t-shirt and trousers take many "
-                "minutes; try --remesh-edge 30");
+  run->add_flag("--drape,!--no-drape", r->drape,
+                "Sew the pattern, drape it on the rest body and measure it against the scanned "
+                "garments (OUT/drape/): on by default; --no-drape skips it (about 10–30 s for a "
+                "t-shirt and trousers)");
   run->add_option("--drape-steps", r->drapeSteps,
                   fmt::format("Step budget (1/60 s each) of each drape phase, sewing and draping "
                               "(default {} and {}); a drape that has not settled by then is "
@@ -380,6 +404,9 @@ void addFitCommands(CLI::App& app, Commands& out) {
                   "Skip the non-rigid full fit (joint figures do not depend on it)");
   suite->add_flag("--single-start", s->singleStart,
                   "Fit from the geometric pose initialisation alone (see fit --single-start)");
+  suite->add_flag("--drape", s->drape,
+                  "With --segment: also sew and drape each pattern and compare it with the "
+                  "scanned garments (PRESET/drape/, the drape columns; issue 19's suite check)");
   out.push_back({suite, [s](Progress& progress) { return runFitSuite(*s, progress); }});
 }
 

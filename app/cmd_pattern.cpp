@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "app/drape_output.h"
 #include "app/pattern_files.h"
 #include "app/pattern_output.h"
 #include "app/segment_output.h"
@@ -30,12 +31,13 @@ struct PanelsCommand {
   std::string segmentation;
   std::string score;  // a synthetic scan's truth.json to score the panels against
   bool armholeBodyParts = false;
+  bool drape = false;   // also sew and drape the pattern (OUT/drape/, drape.json)
+  int drapeSteps = -1;  // step budget of each drape phase; −1: DrapeOptions' defaults
   std::string out = "panels_out";
   LoadOptions load;
   PrintOptions print;
   PatternOptions pattern;
 };
-
 
 // A garment OBJ written by `segment`, back in the normalised frame, with the vertices an OBJ
 // reader split per corner joined again (exact positions: the file holds each vertex once).
@@ -56,7 +58,8 @@ TriMesh readGarment(const fs::path& path, const Scan& scan) {
     }
   m.V.resize(static_cast<int>(V.size()), 3);
   const Eigen::Affine3d toNormal = scan.toInputFrame.inverse();
-  for (size_t i = 0; i < V.size(); ++i) m.V.row(static_cast<int>(i)) = (toNormal * V[i]).transpose();
+  for (size_t i = 0; i < V.size(); ++i)
+    m.V.row(static_cast<int>(i)) = (toNormal * V[i]).transpose();
   return m;
 }
 
@@ -98,14 +101,17 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
         throw FormatError(fmt::format("{}: garment '{}' has {} faces but {} face_origin entries",
                                       (segDir / "garments.json").string(), pg.name,
                                       pg.mesh.numFaces(), origin.size()));
-      pg.faceOrigin = Eigen::Map<const Eigen::VectorXi>(origin.data(), static_cast<int>(origin.size()));
+      pg.faceOrigin =
+          Eigen::Map<const Eigen::VectorXi>(origin.data(), static_cast<int>(origin.size()));
       in.garments.push_back(std::move(pg));
     }
   } catch (const json::exception& e) {
     throw FormatError(fmt::format("{} is not a garment list written by `segment`: {}",
                                   (segDir / "garments.json").string(), e.what()));
   }
-  const PatternResult r = runPattern(in, body, loaded.scan.mesh, cmd.pattern, progress);
+  PipelineResult run;  // the pattern, and its drape when asked
+  run.pattern = runPattern(in, body, loaded.scan.mesh, cmd.pattern, progress);
+  const PatternResult& r = run.pattern;
   progress.begin("write the pattern files");
   writePanels(cmd.out, loaded.scan, r.panels);
   writeFlatPattern(cmd.out, loaded.scan, r.panels, r.flat);
@@ -153,13 +159,34 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
                {"side_seam_degrees", sides}});
   }
   progress.end();
+  if (cmd.drape) {
+    // The drape compares with the garments as `segment` cut them (read above).
+    for (const PanelsInput::Garment& g : in.garments) {
+      GarmentPiece piece;
+      piece.name = g.name;
+      piece.mesh = g.mesh;
+      run.segmentation.garments.push_back(std::move(piece));
+    }
+    DrapeStageOptions options;
+    options.enabled = true;
+    if (cmd.drapeSteps >= 0)
+      options.drape.sewMaxSteps = options.drape.drapeMaxSteps = cmd.drapeSteps;
+    progress.begin("sew and drape the pattern on the rest body, compare with the scan");
+    run.drape = runDrapeStage(run.pattern, run.segmentation, body, options);
+    progress.end();
+    writeDrape(fs::path(cmd.out) / "drape", run);
+    fs::create_directories(fs::path(cmd.out) / "drape");
+    writeJson(fs::path(cmd.out) / "drape" / "drape.json", drapeToJson(run));
+  }
   printPanels(r.panels);
   printFlatPattern(r.panels, r.flat);
   printPatternFiles(r);
-  fmt::print("wrote {}/: pattern.json, pattern.svg, pattern.pdf, pattern.dxf, pattern.png, "
-             "panels.obj, stitches.json, body_rest.obj, placement.json, panels.json, "
-             "panels_3d.obj, panels.png, flat.json, panels_flat.obj, pattern_strain.png\n",
-             cmd.out);
+  if (cmd.drape) printDrape(run);
+  fmt::print(
+      "wrote {}/: pattern.json, pattern.svg, pattern.pdf, pattern.dxf, pattern.png, "
+      "panels.obj, stitches.json, body_rest.obj, placement.json, panels.json, "
+      "panels_3d.obj, panels.png, flat.json, panels_flat.obj, pattern_strain.png\n",
+      cmd.out);
   return 0;
 }
 
@@ -187,6 +214,12 @@ void addPatternCommands(CLI::App& app, Commands& out) {
                 "garment trunk (closest body vertex with an agreeing normal, by its skinning "
                 "weights): keeps a sleeve joined to the torso's side from turning the side into "
                 "sleeve. Experimental: not yet on in `run`");
+  cmd->add_flag("--drape", c->drape,
+                "Also sew the pattern, drape it on the rest body and measure it against the "
+                "segmented garments: OUT/drape/ (draped.obj, drape_compare.png, drape.json)");
+  cmd->add_option("--drape-steps", c->drapeSteps,
+                  "Step budget (1/60 s each) of each drape phase (see run --drape-steps)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("-o,--out", c->out, "Output folder (default panels_out)");
   addLoadOptions(cmd, c->load);
   addPatternOptions(cmd, c->pattern);

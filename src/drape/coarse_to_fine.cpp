@@ -100,6 +100,7 @@ CoarseToFineDrape runDrapeCoarseToFine(const DrapeInput& fine, const DrapeInput&
   o.drapeMaxSteps = c2f.fineMaxSteps;
   if (c2f.fineSubsteps > 0) o.substeps = c2f.fineSubsteps;
   if (!c2f.fineGravity) o.gravity.setZero();
+  if (c2f.fineDamping > 0) o.damping = c2f.fineDamping;
   out.fine = runDrape(start, o);
   out.carried = true;
   return finish();

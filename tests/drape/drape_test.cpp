@@ -114,7 +114,8 @@ TEST(Drape, ASleeveLaidFlatOverItsArmSewsClosedAroundTheArm_Slow) {
       makeGridPanel("sleeve", nx, ny, width, length, Vector3d(armRadius + 0.02, 0, width / 2),
                     -Vector3d::UnitZ(), Vector3d::UnitY(), false);
   in.panels.push_back(sleeve.panel);
-  for (int j = 0; j <= ny; ++j) in.stitches.push_back({0, sleeve.index(0, j), 0, sleeve.index(nx, j)});
+  for (int j = 0; j <= ny; ++j)
+    in.stitches.push_back({0, sleeve.index(0, j), 0, sleeve.index(nx, j)});
   DrapeOptions o;
   o.gravity.setZero();
   o.drapeMaxSteps = 60;
@@ -129,8 +130,8 @@ TEST(Drape, ASleeveLaidFlatOverItsArmSewsClosedAroundTheArm_Slow) {
   const Eigen::MatrixX3d& V = r.panels[0];
   for (int j = 2; j <= ny - 2; ++j) {
     EXPECT_LT(V(sleeve.index(0, j), 0), 0.0) << "row " << j;
-    const double loop = 2 * std::numbers::pi * std::hypot(V(sleeve.index(nx / 2, j), 0),
-                                                          V(sleeve.index(nx / 2, j), 2));
+    const double loop = 2 * std::numbers::pi *
+                        std::hypot(V(sleeve.index(nx / 2, j), 0), V(sleeve.index(nx / 2, j), 2));
     EXPECT_GT(loop, 2 * std::numbers::pi * armRadius) << "row " << j;
   }
   EXPECT_GT(V.col(0).maxCoeff(), armRadius);
@@ -273,6 +274,7 @@ TEST(Drape, AnExplodingRunIsReportedAsFailed) {
   DrapeOptions o;
   o.timeStep = 1.0;  // a second per step: the cloth falls through the sphere and away
   o.substeps = 1;
+  o.damping = 0;  // (at the default 10/s a 1 s step would take all of its velocity away)
   const DrapeResult r = runDrape(sheetOnSphere(kSphereRadius + 0.03), o);
   EXPECT_EQ(r.status, DrapeStatus::Failed);
   EXPECT_FALSE(r.failure.empty());
