@@ -84,6 +84,14 @@ void writeComparePng(const fs::path& path, const PipelineResult& run) {
   writePng(path, out);
 }
 
+// The drape phase's rest windows: step, the fastest vertex's net speed (mm/s) and where it is.
+json restWindowsJson(const DrapeResult& r) {
+  json windows = json::array();
+  for (const DrapeResult::RestWindow& w : r.restWindows)
+    windows.push_back({{"step", w.step}, {"speed_mm_s", 1e3 * w.speed}, {"fastest", w.where}});
+  return windows;
+}
+
 }  // namespace
 
 json drapeToJson(const PipelineResult& run) {
@@ -116,6 +124,7 @@ json drapeToJson(const PipelineResult& run) {
               {"drape_steps", c.drapeSteps},
               {"stitches_sewn", c.sewnStitches},
               {"self_intersections", c.selfIntersections},
+              {"rest_windows", restWindowsJson(c)},
               {"seconds", c.seconds},
               {"carried", d.twoLevel.carried},
               {"carried_max_stitch_gap_mm", 1e3 * d.twoLevel.carriedGap},
@@ -138,6 +147,7 @@ json drapeToJson(const PipelineResult& run) {
           {"max_penetration_mm", 1e3 * r.maxPenetration},
           {"start_inside_body", r.startInsideBody},
           {"self_intersections", r.selfIntersections},
+          {"rest_windows", restWindowsJson(r)},
           // GarmentCode's quality gates for a simulated garment.
           {"gates",
            {{"body_penetrations_at_most", 35},

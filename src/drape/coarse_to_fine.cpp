@@ -51,7 +51,9 @@ CoarseToFineDrape runDrapeCoarseToFine(const DrapeInput& fine, const DrapeInput&
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
   };
-  if (out.coarse.status != DrapeStatus::Settled) {
+  const bool nearlySewn = out.coarse.status == DrapeStatus::NotSettled && out.coarse.settled &&
+                          out.coarse.maxStitchGap <= c2f.maxCarriedGap;
+  if (out.coarse.status != DrapeStatus::Settled && !nearlySewn) {
     out.fine = out.coarse;
     for (std::string& w : out.fine.warnings) w = "coarse " + w;
     return finish();

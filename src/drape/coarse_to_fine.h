@@ -19,10 +19,13 @@
 namespace s2p {
 
 struct CoarseToFineOptions {
-  int fineMinSteps = 20;   // steps of the fine drape at least (two rest windows of 10)
-  int fineMaxSteps = 150;  // its budget: the cloth starts near its rest
-  int fineSewSteps = 30;   // budget for stitch pairs the carrying left open (none: see below)
-  int fineSubsteps = 4;    // XPBD substeps per step of the fine drape; 0: DrapeOptions' own
+  int fineMinSteps = 20;  // steps of the fine drape at least (two rest windows of 10)
+  // Its budget: the cloth starts near its rest, but the fine mesh may still have to work loose
+  // where the coarse one left layers tangled (arms_down's armholes: a fold sliding out along the
+  // sleeve's seam for 100 steps before the cloth came to rest at step 150).
+  int fineMaxSteps = 300;
+  int fineSewSteps = 30;  // budget for stitch pairs the carrying left open (none: see below)
+  int fineSubsteps = 4;   // XPBD substeps per step of the fine drape; 0: DrapeOptions' own
   // 1/s: the fine drape's damping (0: DrapeOptions' own). Without gravity it only relaxes the
   // carried drape to the fine mesh's own rest and contacts; heavy damping stops it creeping
   // (the trousers' hems crept at 1–3 cm/s for 70 steps at 4/s, at rest after 50 at 20/s).
@@ -33,6 +36,13 @@ struct CoarseToFineOptions {
   // triangles (the neck ends of the shoulder seams stretched past 3× within 12 steps at 6
   // substeps, 2.3× at 12; bench/RESULTS.md "Drape V").
   bool fineGravity = false;
+  // Metres: a coarse drape that came to rest with stitch pairs still open (their sewing stalled
+  // where three or four panels meet, a crotch or a waist under a hem, held apart by the cloth's
+  // own contacts) is carried when its widest open pair is at most this: half a coarse edge (the
+  // default 30 mm), so the fine mesh, which starts every stitched group at its mean, closes it
+  // within one triangle. The coarse warnings stay in the report; the fine drape is judged as
+  // always. Wider gaps (a sleeve not closed round its arm) are not a drape to carry.
+  double maxCarriedGap = 0.015;
 };
 
 struct CoarseToFineDrape {

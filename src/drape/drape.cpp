@@ -1117,6 +1117,7 @@ void ClothSim::run() {
         if (speed > windowSpeed_) windowSpeed_ = speed, windowFastest_ = v;
       }
       windowStart = x_;
+      r.restWindows.push_back({r.drapeSteps, windowSpeed_, where(windowFastest_)});
       calm = windowSpeed_ < o_.restSpeed ? calm + 1 : 0;
       if (calm >= 2 && r.drapeSteps >= o_.drapeMinSteps) {
         r.settled = true;

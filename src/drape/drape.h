@@ -125,6 +125,15 @@ struct DrapeResult {
   double maxPenetration = 0;  // metres, deepest
   int startInsideBody = 0;    // vertices that started inside the body
   std::vector<std::string> wrappedPanels;  // sewn to themselves: wrapped round their limb
+  // The drape phase's rest windows, in order: the largest net motion of a vertex over each window
+  // of restSteps steps (m/s) and where that vertex is (panel, vertex, position): what kept the
+  // cloth from rest, or how it came to it.
+  struct RestWindow {
+    int step = 0;
+    double speed = 0;
+    std::string where;
+  };
+  std::vector<RestWindow> restWindows;
   int selfIntersections = 0;       // intersecting triangle pairs not sharing a (sewn) vertex
   double seconds = 0;              // wall time of the whole run
   long long constraintSolves = 0;  // projections performed (all kinds)
