@@ -119,7 +119,7 @@ class ChainFitter {
 
   // Least-squares inner control points along the tangents t1 (at first, pointing forward) and
   // t2 (at last, pointing backward); the Wu–Barsky third-of-the-chord fallback when the
-  // system is singular or an arm would not be positive.
+  // system is singular, an arm would not be positive or would reach past the chord's end.
   CubicBezier generate(int first, int last, const std::vector<double>& u, const Eigen::Vector2d& t1,
                        const Eigen::Vector2d& t2) const {
     const Eigen::Vector2d p0 = pts_[first], p3 = pts_[last];
@@ -142,8 +142,17 @@ class ChainFitter {
       alpha1 = (x0 * c11 - x1 * c01) / det;
       alpha2 = (c00 * x1 - c01 * x0) / det;
     }
+    // An arm that reaches past the chord's far end (its control point projects outside [0,
+    // chord]) makes the segment run past its end point and turn back onto it: a hook narrower
+    // than the tolerance, which the fit's error test cannot see, and which makes the outline
+    // cross itself at the corner (a neckline's last segment: an arm of 21 mm on a 10 mm chord,
+    // the sew line then crossed itself 0.5 mm from the corner). With both projections inside,
+    // the segment advances monotonically along its chord: no hook, no loop.
+    const Eigen::Vector2d along = chord > 0 ? ((p3 - p0) / chord).eval() : Eigen::Vector2d::Zero();
+    const double along1 = alpha1 * t1.dot(along), along2 = chord + alpha2 * t2.dot(along);
+    const bool withinChord = along1 >= 0 && along1 <= chord && along2 >= 0 && along2 <= chord;
     if (!(alpha1 > 1e-6 * chord) || !(alpha2 > 1e-6 * chord) || !std::isfinite(alpha1) ||
-        !std::isfinite(alpha2))
+        !std::isfinite(alpha2) || !withinChord)
       alpha1 = alpha2 = chord / 3.0;
     return CubicBezier{{p0, p0 + alpha1 * t1, p3 + alpha2 * t2, p3}};
   }

@@ -24,14 +24,16 @@ void checkOptions(const GeometricCueOptions& o) {
 }  // namespace
 
 Eigen::VectorXd bodyOffset(const TriMesh& scan, const MeshQuery& underBody,
-                           const TriMesh& underBodyMesh) {
+                           const TriMesh& underBodyMesh, Eigen::MatrixX3d* bodyNormal) {
   const std::vector<ClosestHit> hits = underBody.closestPoints(scan.V);
   const Eigen::MatrixX3d N = faceNormals(underBodyMesh);
   Eigen::VectorXd out(scan.numVertices());
+  if (bodyNormal) bodyNormal->resize(scan.numVertices(), 3);
   for (int v = 0; v < scan.numVertices(); ++v) {
     const ClosestHit& h = hits[v];
     const Eigen::Vector3d d = scan.V.row(v).transpose() - h.point;
     out[v] = d.dot(N.row(h.face).transpose()) < 0 ? -h.distance : h.distance;
+    if (bodyNormal) bodyNormal->row(v) = N.row(h.face);
   }
   return out;
 }

@@ -65,9 +65,9 @@ struct GeometricCueOptions {
 
 // Signed distance (m) from every vertex of `scan` to the body `underBody` (the shape-and-pose
 // fit, not the full fit of §5.1.2, which follows the clothes): > 0 outside, by the normal of the
-// closest face. #V.
+// closest face. #V. `bodyNormal`, when given, receives that face's unit normal (#V×3).
 Eigen::VectorXd bodyOffset(const TriMesh& scan, const MeshQuery& underBody,
-                           const TriMesh& underBodyMesh);
+                           const TriMesh& underBodyMesh, Eigen::MatrixX3d* bodyNormal = nullptr);
 
 // A region is clothed when the median of its points' offsets (m) exceeds garmentOffset: bare
 // skin lies on the fitted body, a garment off it by its ease. false for no offsets.

@@ -52,7 +52,8 @@ GaussianMixture fitFixedK(const Eigen::MatrixX3d& X, int k, const GmmOptions& o)
     means.row(c) = X.row(pick);
     d2 = d2.cwiseMin((X.rowwise() - means.row(c)).rowwise().squaredNorm());
   }
-  const Eigen::Matrix3d floor = o.covarianceFloor * Eigen::Matrix3d::Identity();
+  const double chroma = o.chromaFloor > 0 ? o.chromaFloor : o.covarianceFloor;
+  const Eigen::Matrix3d floor = Eigen::Vector3d(o.covarianceFloor, chroma, chroma).asDiagonal();
   const Eigen::RowVector3d mu = X.colwise().mean();
   const Eigen::MatrixX3d Xc = X.rowwise() - mu;
   const Eigen::Matrix3d globalCov = Xc.transpose() * Xc / std::max(1, n) + floor;
@@ -116,10 +117,11 @@ Eigen::VectorXd GaussianMixture::logDensity(const Eigen::MatrixX3d& X) const {
 GaussianMixture fitGaussianMixture(const Eigen::MatrixX3d& X, const GmmOptions& o) {
   if (X.rows() == 0) throw InputError("colour model: no samples to fit (a region with no points)");
   if (!X.allFinite()) throw InputError("colour model: a sample colour is not finite");
-  if (o.components < 0 || o.maxComponents < 1 || !(o.covarianceFloor > 0) || o.maxIterations < 1)
+  if (o.components < 0 || o.maxComponents < 1 || !(o.covarianceFloor > 0) ||
+      !(o.chromaFloor >= 0) || o.maxIterations < 1)
     throw InputError(
-        "colour model: components ≥ 0, maxComponents ≥ 1, maxIterations ≥ 1 and "
-        "covarianceFloor > 0 are required");
+        "colour model: components ≥ 0, maxComponents ≥ 1, maxIterations ≥ 1, "
+        "covarianceFloor > 0 and chromaFloor ≥ 0 are required");
   const int n = static_cast<int>(X.rows());
   if (o.components > 0) {
     if (n < o.components)

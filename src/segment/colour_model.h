@@ -37,6 +37,9 @@ struct GmmOptions {
   int maxIterations = 300;
   double tolerance = 1e-7;       // stop when the mean log-likelihood gains less than this
   double covarianceFloor = 1.0;  // added to every covariance's diagonal, (ΔE)²
+  // (ΔE)² added to the a* and b* variances instead of covarianceFloor when > 0 (L* keeps
+  // covarianceFloor): an anisotropic floor, for light that moves lightness more than chroma.
+  double chromaFloor = 0;
   std::uint64_t seed = 1;        // k-means++ initialisation
 };
 

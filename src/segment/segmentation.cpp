@@ -73,6 +73,7 @@ struct Stage {
   Eigen::VectorXd offset;  // #V, m
   Eigen::VectorXd step;    // #V, m
   Eigen::VectorXd smoothOffset;  // #V, m: the offset smoothed over the scanner's noise
+  Eigen::MatrixX3d bodyNormal;  // #V×3: the normal of the body's closest face (not unit after cuts)
 };
 
 Stage childStage(const Stage& parent, const CutPart& part) {
@@ -97,6 +98,14 @@ Stage childStage(const Stage& parent, const CutPart& part) {
       s.offset[v] = (1 - o.t) * parent.offset[o.a] + o.t * parent.offset[o.b];
       s.step[v] = (1 - o.t) * parent.step[o.a] + o.t * parent.step[o.b];
       s.smoothOffset[v] = (1 - o.t) * parent.smoothOffset[o.a] + o.t * parent.smoothOffset[o.b];
+    }
+  }
+  if (parent.bodyNormal.rows() > 0) {
+    s.bodyNormal.resize(n, 3);
+    for (int v = 0; v < n; ++v) {
+      const VertexOrigin& o = part.vertexOrigin[v];
+      s.bodyNormal.row(v) =
+          (1 - o.t) * parent.bodyNormal.row(o.a) + o.t * parent.bodyNormal.row(o.b);
     }
   }
   s.faceOrigin.resize(part.faceOrigin.size());
@@ -287,6 +296,25 @@ Eigen::VectorXd normalDisplacement(const TriMesh& mesh, const Isoline& boundary,
   return out;
 }
 
+// Eq. (5) with the body under the clothes known (issue 18): φ_dn counts only where the scan turns
+// away from that body, fully where its normal lies 60° or more off the body's (a hem's riser, the
+// cap closing a skirt or a cuff), not at all within 30° (linear between). Eq. (5) alone takes any
+// surface facing along the boundary's plane normal for a gap: the torso's sides under the arms
+// face along an armhole's, and where colour cannot tell skin from the top (close_to_skin) φ_dn
+// alone pushed the skin side into the top there, though top and body run parallel. bodyNormal:
+// #V×3, the normal of the body's closest face.
+void onlyWhereTurnedAway(const TriMesh& mesh, const Eigen::MatrixX3d& bodyNormal,
+                         Eigen::VectorXd& phiDn) {
+  const double cos30 = std::sqrt(3.0) / 2, cos60 = 0.5;
+  const Eigen::MatrixX3d N = vertexNormals(mesh);
+  for (int v = 0; v < mesh.numVertices(); ++v) {
+    if (phiDn[v] <= 0) continue;
+    const Vec3 b = bodyNormal.row(v).transpose();
+    const double c = b.norm() > 0 ? N.row(v).dot(b.transpose()) / b.norm() : 0.0;
+    phiDn[v] *= std::clamp((cos30 - c) / (cos30 - cos60), 0.0, 1.0);
+  }
+}
+
 // Which vertices are gap-filling triangles (§5.2) rather than garment or skin. A candidate
 // faces along the boundary's plane normal (φ_dn > 0) and does not look onto the body: its inward
 // normal meets no body surface within 2·reach (a shoulder under a neckline looks down onto the
@@ -417,7 +445,7 @@ class Segmenter {
       validateMesh(*underBody, "body under the clothes");
       progress_.begin("offset from the body under the clothes");
       const MeshQuery under(*underBody);
-      root_.offset = bodyOffset(scan, under, *underBody);
+      root_.offset = bodyOffset(scan, under, *underBody, &root_.bodyNormal);
       root_.step = coarseStepField(scan, root_.offset, root_.smoothOffset);
       progress_.end();
     }
@@ -1012,6 +1040,7 @@ class Segmenter {
       s.step = rows(stage.step);
       s.smoothOffset = rows(stage.smoothOffset);
     }
+    if (stage.bodyNormal.rows() > 0) s.bodyNormal = rows(stage.bodyNormal);
     s.scanVertex = rows(stage.scanVertex);
     return s;  // faceOrigin stays empty: a copy's faces lie in no one scan face
   }
@@ -1146,8 +1175,10 @@ class Segmenter {
     if (job.gapFilling && !job.keepInitial && !run.result.vanished) {
       // §5.2: a second pass with the normal displacement (Eq. 6), kept when it moves the
       // boundary (a gap was bridged).
-      const Eigen::VectorXd phiDn =
+      Eigen::VectorXd phiDn =
           normalDisplacement(stage.mesh, run.result.boundary, run.result.phi, 0.25 * height_);
+      if (options_.gapOnlyWhereTurnedAway && stage.bodyNormal.rows() > 0)
+        onlyWhereTurnedAway(stage.mesh, stage.bodyNormal, phiDn);
       // Eq. (6), except on gap-filling triangles, which push to the side that is not garment
       // (+1) whatever their colour: the paper calls their colours meaningless, and a cap patch in
       // the garment's colour (φ_d = −1) cancelled φ_dn and held the hem on the cap under a long

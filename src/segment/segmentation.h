@@ -41,12 +41,20 @@ const char* toString(Occlusion occlusion);
 
 struct SegmentationOptions {
   BoundaryOptions boundary;
-  // σ ≥ 5 ΔE per mixture component: colours under scan lighting vary by several ΔE, and with
-  // tighter components a colour a little off the face's skin falls in the tails of every
-  // mixture, where the broadest one wins whatever the hue.
+  // σ ≥ 5 ΔE in lightness per mixture component: colours under scan lighting vary by several
+  // ΔE, and with tighter components a colour a little off the face's skin falls in the tails of
+  // every mixture, where the broadest one wins whatever the hue. That spread is lightness:
+  // shading, a key light and occlusion scale a surface's luminance, which moves L* by its full
+  // amount but a* and b* only by the cube root of the scale (CIELAB's f(t) = t^⅓ acts on X, Y,
+  // Z alike: 30 % darker shrinks a skin's chroma of ~20 by ~2). So a* and b* are floored at σ 2
+  // ΔE, not 5: a beige top 8 ΔE off the skin, 5 of them in hue and chroma (close_to_skin), lay
+  // within one σ of the skin in every axis at σ 5 and is told from it by its chroma at σ 2. The
+  // lightness floor stays: a garment lighter on its lit side than its shaded side still holds
+  // its whole range (a lightness-only floor of σ 10 took a white top's shade for skin).
   ColourModelOptions colour = [] {
     ColourModelOptions c;
     c.gmm.covarianceFloor = 25.0;
+    c.gmm.chromaFloor = 4.0;
     return c;
   }();
   ProjectionOptions projection;  // bodyLength is set from the body's height
@@ -63,6 +71,10 @@ struct SegmentationOptions {
   // (segmentation.cpp, gapVertices).
   double gapReach = 0.05;
   bool gapFilling = true;
+  // With the body under the clothes, the second pass's φ_dn (Eq. 5) counts only where the scan
+  // turns away from that body: fully where its normal lies 60° or more off the body's (a riser,
+  // a cap), not within 30° (segmentation.cpp, onlyWhereTurnedAway).
+  bool gapOnlyWhereTurnedAway = true;
   // §5.3 and the missing-garment tests: two regions are "the same colour" when the CIEDE2000
   // difference of their mean CIELAB colours is below this; a garment is missing when its region
   // is the skin's colour in this sense and most of its points are within this of the skin's.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 
 #include "core/colour.h"
@@ -11,6 +12,7 @@
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 #include "core/shapes.h"
+#include "segment/segmentation.h"
 
 namespace s2p {
 namespace {
@@ -294,6 +296,50 @@ TEST(ColourModel, SmoothingKeepsConstantsAndMean) {
   const Eigen::VectorXd a = vertexAreas(s);
   EXPECT_NEAR(a.dot(sm.col(0)), a.dot(rgb.col(0)), 1e-10);
   EXPECT_LT(sm.col(0).maxCoeff(), rgb.col(0).maxCoeff());
+}
+
+// Issue 18, light-robust colour, a known answer: a skin and a top of one lightness whose hues lie
+// 20° apart (6.3 ΔE2000), both under the same shading (each sample's linear RGB scaled by 0.55 to
+// 1, which moves L* by up to 15 and a*, b* by their cube root: ~2). The segmentation's floor
+// (σ 5 in L*, σ 2 in a* and b*) puts fresh samples decisively on their side by their hue; the
+// isotropic σ 5 floor it replaces spread each mixture over the other's hue, and their posteriors
+// stayed soft (right side, but |φ_d| < 0.9).
+TEST(ColourModel, ColoursApartInHueButEqualUnderShadingAreToldApart) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> light(0.55, 1.0);
+  std::normal_distribution<double> noise(0, 0.8);  // ΔE-sized scanner noise per channel
+  const double chroma = 22, hue = std::atan2(17.0, 14.0), turn = 20 * M_PI / 180;
+  const Eigen::Vector3d skin(66, chroma * std::cos(hue), chroma * std::sin(hue));
+  const Eigen::Vector3d top(66, chroma * std::cos(hue + turn), chroma * std::sin(hue + turn));
+  const auto shaded = [&](const Eigen::Vector3d& lab, int n) {
+    const Eigen::Vector3d linear = srgbToLinear(labToSrgb(lab));
+    Eigen::MatrixX3d out(n, 3);
+    for (int i = 0; i < n; ++i)
+      out.row(i) = (srgbToLab(linearToSrgb(Eigen::Vector3d(light(rng) * linear))) +
+                    Eigen::Vector3d(noise(rng), noise(rng), noise(rng)))
+                       .transpose();
+    return out;
+  };
+  const Eigen::MatrixX3d skinFit = shaded(skin, 200), topFit = shaded(top, 200);
+  const Eigen::MatrixX3d skinTest = shaded(skin, 400), topTest = shaded(top, 400);
+  const auto toldApart = [&](const GmmOptions& gmm) {
+    const std::vector<GaussianMixture> models = {fitGaussianMixture(skinFit, gmm),
+                                                 fitGaussianMixture(topFit, gmm)};
+    const Eigen::VectorXd s = posteriorDisplacement(models, {true, false}, skinTest);
+    const Eigen::VectorXd t = posteriorDisplacement(models, {true, false}, topTest);
+    // A decisive vote: φ_d beyond ±0.9 on the right side (a soft one is outweighed by any
+    // other term of the displacement, the offset's or Eq. 5's).
+    return ((s.array() > 0.9).count() + (t.array() < -0.9).count()) / 800.0;
+  };
+  const GmmOptions segmentation = SegmentationOptions{}.colour.gmm;
+  const double anisotropicShare = toldApart(segmentation);
+  GmmOptions isotropic = segmentation;
+  isotropic.chromaFloor = 0;  // covarianceFloor on every axis
+  const double isotropicShare = toldApart(isotropic);
+  std::cout << "decisive and right: " << anisotropicShare << " (σ 2 in chroma), " << isotropicShare
+            << " (σ 5)\n";
+  EXPECT_GT(anisotropicShare, 0.9);
+  EXPECT_LT(isotropicShare, 0.5);
 }
 
 TEST(ColourModel, BadInputThrowsInputError) {
