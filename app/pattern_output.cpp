@@ -80,6 +80,7 @@ json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput) {
                        {"removed_why", s.removedWhy},
                        {"anchors", s.anchors},
                        {"dropped_anchors", s.droppedAnchors},
+                       {"contact_anchors", s.contactAnchors},  // kept: not in dropped_anchors
                        {"sign_points", s.signs},
                        {"dropped_sign_points", s.droppedSigns},
                        {"dropped_with_their_pair", s.pairedDrops},

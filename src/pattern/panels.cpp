@@ -677,8 +677,10 @@ class GarmentPanelizer {
         int sleeves = 0;
         for (int p : gp.panels)
           sleeves += result_.panels[p].name.find("sleeve") != std::string::npos;
-        for (const Opening& o : gp.openings)
+        for (const Opening& o : gp.openings) {
           if (o.name.find("cuff") != std::string::npos) cuffT = std::max(cuffT, o.t);
+          for (const Opening::JoinedCuff& c : o.joinedCuffs) cuffT = std::max(cuffT, c.t);
+        }
         if (sleeves == 0) return "sleeveless_top";
         return cuffT > 0.75 ? "long_sleeve_shirt" : "tshirt";
       }
@@ -855,8 +857,8 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
     try {
       // Panels index result.garments (placement, the pattern files), which holds only the
       // garments that made a pattern: a failed garment before this one shifts the index.
-      GarmentPanelizer(input, garments[g], static_cast<int>(result.garments.size()), frame,
-                       options, result)
+      GarmentPanelizer(input, garments[g], static_cast<int>(result.garments.size()), frame, options,
+                       result)
           .run();
     } catch (const Error& e) {
       result.panels.resize(panelsBefore);  // drop what the failed garment had added

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -25,18 +25,24 @@ namespace s2p {
 
 const char* toString(SeamKind kind) {
   switch (kind) {
-    case SeamKind::FrontBack: return "front_back";
-    case SeamKind::Armhole: return "armhole";
-    case SeamKind::LeftRight: return "left_right";
+    case SeamKind::FrontBack:
+      return "front_back";
+    case SeamKind::Armhole:
+      return "armhole";
+    case SeamKind::LeftRight:
+      return "left_right";
   }
   return "?";
 }
 
 const char* toString(GarmentKind kind) {
   switch (kind) {
-    case GarmentKind::Upper: return "upper";
-    case GarmentKind::Lower: return "lower";
-    case GarmentKind::OnePiece: return "onepiece";
+    case GarmentKind::Upper:
+      return "upper";
+    case GarmentKind::Lower:
+      return "lower";
+    case GarmentKind::OnePiece:
+      return "onepiece";
   }
   return "?";
 }
@@ -54,9 +60,15 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 // shortest cap sleeve ends at t ≈ 0.25).
 constexpr double kCuffT = 0.2;
 
-bool isArm(Limb l) { return l == Limb::LeftArm || l == Limb::RightArm; }
-bool isLeg(Limb l) { return l == Limb::LeftLeg || l == Limb::RightLeg; }
-const char* sideOf(Limb l) { return l == Limb::LeftArm || l == Limb::LeftLeg ? "left" : "right"; }
+bool isArm(Limb l) {
+  return l == Limb::LeftArm || l == Limb::RightArm;
+}
+bool isLeg(Limb l) {
+  return l == Limb::LeftLeg || l == Limb::RightLeg;
+}
+const char* sideOf(Limb l) {
+  return l == Limb::LeftArm || l == Limb::LeftLeg ? "left" : "right";
+}
 
 std::vector<std::string> featureNames(SeamKind kind, GarmentKind garment) {
   switch (kind) {
@@ -76,20 +88,24 @@ std::vector<std::string> featureNames(SeamKind kind, GarmentKind garment) {
 
 const char* seamName(SeamKind kind) {
   switch (kind) {
-    case SeamKind::FrontBack: return "side";
-    case SeamKind::Armhole: return "armhole";
-    case SeamKind::LeftRight: return "crotch";
+    case SeamKind::FrontBack:
+      return "side";
+    case SeamKind::Armhole:
+      return "armhole";
+    case SeamKind::LeftRight:
+      return "crotch";
   }
   return "?";
 }
 
-// Boundary points of an opening about `spacing` apart, as value constraints.
-void addOpeningConstraints(const MeshTopology& topo, const TriMesh& mesh, const Opening& o,
-                           double spacing, double value, std::vector<ValueConstraint>& out) {
+// Points of a boundary polyline about `spacing` apart, as value constraints.
+void addLoopConstraints(const MeshTopology& topo, const TriMesh& mesh,
+                        const std::vector<int>& vertices, double spacing, double value,
+                        std::vector<ValueConstraint>& out) {
   double since = spacing;
-  for (size_t i = 0; i < o.vertices.size(); ++i) {
-    const int v = o.vertices[i];
-    if (i > 0) since += (mesh.V.row(v) - mesh.V.row(o.vertices[i - 1])).norm();
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    const int v = vertices[i];
+    if (i > 0) since += (mesh.V.row(v) - mesh.V.row(vertices[i - 1])).norm();
     if (since < spacing) continue;
     since = 0;
     out.push_back({SurfacePoint::atVertex(topo, mesh.F, v), value});
@@ -184,14 +200,116 @@ void addBodyPartConstraints(const TriMesh& garment, const MeshTopology& topo, co
   }
 }
 
+// A seam anchor dropped by Appendix B that is a contact, not an occlusion (SeamOptions::
+// contactDistance). Rule 2 drops q when its ray meets the body before the scan: another part of
+// the body stands between q and the cloth, so q's closest scan point belongs to that part. Where
+// the arm hangs against the trunk, the ray from the trunk's side (or the arm's underside) meets
+// the arm (the trunk) across a gap narrower than two layers of cloth: nothing stands between,
+// the top's cloth covers both sides of the contact (sleeve and side, pressed together or fused
+// by the scan), and the scan's surface nearest q is that cloth. Such a q is kept. Only the
+// features of a top's trunk–arm contact, upper_side and shoulder: a hand hanging against the
+// thigh is bare, the trousers under it are cut away with the skin, and lower_side's anchor there
+// would land on the edge of that hole, not on the seam; between the legs a ray meeting the other
+// leg is what tells a skirt from trousers (the crotch's anchors must go).
+bool isContact(const ProjectedPoint& p, const Vec3& q, const std::string& feature,
+               double contactDistance, double clothDistance) {
+  if ((feature != "upper_side" && feature != "shoulder") || contactDistance <= 0) return false;
+  return p.status == ProjectionStatus::HitBody && p.hitDistance <= contactDistance &&
+         (p.p - q).norm() <= clothDistance;
+}
+
+// Angle (rad) that the polyline `run` winds about an arm's axis (shoulder → elbow → wrist), each
+// vertex taken about its own closest axis point, in the plane across the axis there.
+double windingAboutArm(const TriMesh& mesh, const std::vector<int>& run, const BodyFrame& frame,
+                       Limb arm) {
+  using C = Canonical;
+  const bool left = arm == Limb::LeftArm;
+  const std::array<Vec3, 3> chain{frame.at(left ? C::LeftShoulder : C::RightShoulder),
+                                  frame.at(left ? C::LeftElbow : C::RightElbow),
+                                  frame.at(left ? C::LeftWrist : C::RightWrist)};
+  const auto across = [&](const Vec3& p, Vec3& dir) {
+    double best = std::numeric_limits<double>::infinity();
+    Vec3 out = Vec3::Zero();
+    for (int i = 0; i < 2; ++i) {
+      const Vec3 ab = chain[i + 1] - chain[i];
+      const double u = ab.squaredNorm() > 0
+                           ? std::clamp((p - chain[i]).dot(ab) / ab.squaredNorm(), 0.0, 1.0)
+                           : 0.0;
+      const Vec3 r = p - (chain[i] + u * ab);
+      if (r.norm() < best) {
+        best = r.norm();
+        dir = ab.normalized();
+        out = r - r.dot(dir) * dir;
+      }
+    }
+    return out;
+  };
+  double winding = 0;
+  for (size_t i = 0; i + 1 < run.size(); ++i) {
+    Vec3 d;
+    const Vec3 a = across(mesh.V.row(run[i]).transpose(), d);
+    const Vec3 b = across(mesh.V.row(run[i + 1]).transpose(), d);
+    winding += std::atan2(a.cross(b).dot(d), a.dot(b));
+  }
+  return winding;
+}
+
+// The cuffs the scan joined to a loop that is not itself on an arm (Opening::joinedCuffs): each
+// maximal stretch of the loop whose vertices lie on one arm past the armhole, kept when it winds
+// at least half way round the arm. A hem that merely passes beside a hanging forearm runs along
+// its side (a small angle); a cuff fused to it goes round the wrist before returning.
+std::vector<Opening::JoinedCuff> joinedCuffs(const TriMesh& mesh, const std::vector<int>& loop,
+                                             const BodyFrame& frame) {
+  const int n = static_cast<int>(loop.size());
+  std::vector<Limb> on(static_cast<size_t>(n), Limb::Torso);
+  std::vector<double> t(static_cast<size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i) {
+    const LimbPlace place = frame.nearestLimb(mesh.V.row(loop[i]).transpose());
+    if (isArm(place.limb) && place.t > kCuffT) on[i] = place.limb;
+    t[i] = place.t;
+  }
+  int start = -1;  // a vertex off every arm's cuff part: runs are cut there
+  for (int i = 0; i < n && start < 0; ++i)
+    if (!isArm(on[i])) start = i;
+  std::vector<Opening::JoinedCuff> out;
+  if (start < 0) return out;
+  int k = 1;
+  while (k <= n) {  // position `start` itself is off the arms: every run ends by k = n
+    if (!isArm(on[(start + k) % n])) {
+      ++k;
+      continue;
+    }
+    Opening::JoinedCuff c;
+    c.limb = on[(start + k) % n];
+    double tSum = 0;
+    for (; k <= n && on[(start + k) % n] == c.limb; ++k) {
+      c.vertices.push_back(loop[(start + k) % n]);
+      tSum += t[(start + k) % n];
+    }
+    c.t = tSum / static_cast<double>(c.vertices.size());
+    if (c.vertices.size() >= 3 &&
+        std::abs(windingAboutArm(mesh, c.vertices, frame, c.limb)) >= M_PI)
+      out.push_back(std::move(c));
+  }
+  return out;
+}
+
 }  // namespace
+
+bool hasCuff(const Opening& o, Limb arm) {
+  if (o.limb == arm && o.t > kCuffT) return true;
+  for (const Opening::JoinedCuff& c : o.joinedCuffs)
+    if (c.limb == arm) return true;
+  return false;
+}
 
 std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology& topology,
                                       GarmentKind kind, const BodyFrame& frame) {
   using C = Canonical;
   const double shoulderH =
       0.5 * (frame.height(frame.at(C::LeftShoulder)) + frame.height(frame.at(C::RightShoulder)));
-  const double hipH = 0.5 * (frame.height(frame.at(C::LeftHip)) + frame.height(frame.at(C::RightHip)));
+  const double hipH =
+      0.5 * (frame.height(frame.at(C::LeftHip)) + frame.height(frame.at(C::RightHip)));
   const double hipHalf =
       0.5 * std::abs(frame.lateral(frame.at(C::LeftHip)) - frame.lateral(frame.at(C::RightHip)));
   std::vector<Opening> out;
@@ -223,6 +341,8 @@ std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology
     } else {
       o.name = "hem";  // around the trunk, or around both legs (a skirt's hem)
     }
+    if (!isArm(place.limb) && kind != GarmentKind::Lower)
+      o.joinedCuffs = joinedCuffs(garment, loop, frame);
     out.push_back(std::move(o));
   }
   return out;
@@ -232,8 +352,7 @@ namespace {
 
 // The seams of estimateSeams on `garment` itself.
 std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
-                                  const FeatureSet& features,
-                                  const std::vector<Opening>& openings,
+                                  const FeatureSet& features, const std::vector<Opening>& openings,
                                   const SeamOptions& options,
                                   const Eigen::MatrixXd& bodyLimbWeight) {
   ProjectionOptions popt = options.projection;
@@ -248,6 +367,8 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
   bopt.maxIterations = std::max(1, options.regularisationSteps);
   bopt.dropStrayCurves = false;
   const Eigen::VectorXd noDisplacement = Eigen::VectorXd::Zero(garment.numVertices());
+  const double contactDistance = options.contactDistance * popt.bodyLength;
+  const double clothDistance = options.contactClothDistance * popt.bodyLength;
 
   std::vector<SeamLine> out;
   for (SeamKind kind_ : {SeamKind::FrontBack, SeamKind::Armhole, SeamKind::LeftRight}) {
@@ -265,11 +386,32 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
     for (const std::string& fname : names) {
       const CurveFeatures* f = features.seam(fname);
       if (!f)
-        throw InputError(fmt::format("pattern: the feature set has no seam '{}' (a features.json "
-                                     "from an older version? rerun `fit`)",
-                                     fname));
+        throw InputError(
+            fmt::format("pattern: the feature set has no seam '{}' (a features.json "
+                        "from an older version? rerun `fit`)",
+                        fname));
       for (const FeatureSpline& s : f->splines) {
-        const std::vector<ProjectedPoint> p = projector.project(s.anchors);
+        std::vector<ProjectedPoint> p = projector.project(s.anchors);
+        // Contacts are taken back only for a spline Appendix B would remove (fewer than
+        // minAnchors left): a contact anchor is placed less surely than one the scan shows
+        // plainly, and on a spline that keeps enough anchors it only moves the seam (arms_down:
+        // the side seam's end left the sleeve's underarm, whose cut then split the armhole).
+        int plain = 0;
+        for (const ProjectedPoint& q : p) plain += q.ok();
+        const bool needsContacts = plain < options.minAnchors;
+        for (size_t i = 0; i < p.size(); ++i) {
+          const bool contact = needsContacts && isContact(p[i], s.anchors[i].position(body), fname,
+                                                          contactDistance, clothDistance);
+          if (std::getenv("S2P_DEBUG_SEAMS"))
+            fmt::print(stderr, "  {} anchor {}: {}{} hit {:.1f} mm, |p−q| {:.1f} mm\n", s.name, i,
+                       toString(p[i].status), contact ? " (contact, kept)" : "",
+                       1000 * p[i].hitDistance,
+                       1000 * (p[i].p - s.anchors[i].position(body)).norm());
+          if (contact) {
+            p[i].status = ProjectionStatus::Ok;
+            ++seam.contactAnchors;
+          }
+        }
         std::vector<ProjectedPoint> kept;
         for (const ProjectedPoint& q : p)
           if (q.ok()) kept.push_back(q);
@@ -292,9 +434,10 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
                                 options.brokenSeamDistance * popt.bodyLength)
             ++gap;
         if (!s.closed && gap > 0)
-          why = fmt::format("{} anchor(s) between surviving ones lie more than {:.0f} mm from the "
-                            "garment: it leaves the body across the middle of the seam",
-                            gap, 1000 * options.brokenSeamDistance * popt.bodyLength);
+          why = fmt::format(
+              "{} anchor(s) between surviving ones lie more than {:.0f} mm from the "
+              "garment: it leaves the body across the middle of the seam",
+              gap, 1000 * options.brokenSeamDistance * popt.bodyLength);
         else if (static_cast<int>(kept.size()) < options.minAnchors)
           why = fmt::format("{} of {} anchors survived the ill-projection tests, {} needed",
                             kept.size(), p.size(), options.minAnchors);
@@ -304,7 +447,7 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
         if (kind_ == SeamKind::Armhole) {
           arm = s.name.rfind("left", 0) == 0 ? Limb::LeftArm : Limb::RightArm;
           bool cuff = false;
-          for (const Opening& o : openings) cuff |= o.limb == *arm && o.t > kCuffT;
+          for (const Opening& o : openings) cuff |= hasCuff(o, *arm);
           if (!cuff && why.empty()) why = "the garment has no opening on that arm (no sleeve)";
         }
         if (!why.empty()) {
@@ -321,12 +464,19 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
             prior.push_back(q.p);
           }
           zeros.push_back(std::move(pts));
-          for (const Opening& o : openings)
+          for (const Opening& o : openings) {
             if (o.limb == *arm && o.t > kCuffT)
-              addOpeningConstraints(topo, garment, o, options.boundaryConstraintSpacing, -1.0, signs);
+              addLoopConstraints(topo, garment, o.vertices, options.boundaryConstraintSpacing, -1.0,
+                                 signs);
+            for (const Opening::JoinedCuff& c : o.joinedCuffs)
+              if (c.limb == *arm)
+                addLoopConstraints(topo, garment, c.vertices, options.boundaryConstraintSpacing,
+                                   -1.0, signs);
+          }
         } else {
           Eigen::MatrixX3d A(static_cast<int>(kept.size()), 3);
-          for (size_t i = 0; i < kept.size(); ++i) A.row(static_cast<int>(i)) = kept[i].p.transpose();
+          for (size_t i = 0; i < kept.size(); ++i)
+            A.row(static_cast<int>(i)) = kept[i].p.transpose();
           std::vector<SurfacePoint> pts = surfaceSpline(query, A, s.closed, spacing);
           for (const SurfacePoint& q : pts) prior.push_back(q.position(garment));
           zeros.push_back(std::move(pts));
@@ -349,14 +499,25 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
     }
     if (kind_ == SeamKind::Armhole && !zeros.empty())
       for (const Opening& o : openings)
-        if (o.name == "neckline" || o.name == "hem")
-          addOpeningConstraints(topo, garment, o, options.boundaryConstraintSpacing, +1.0, signs);
+        if (o.name == "neckline" || o.name == "hem") {
+          // A cuff joined to the hem is the sleeve's (−1 above), not the trunk's.
+          std::vector<int> trunkPart;
+          for (int v : o.vertices) {
+            bool cuff = false;
+            for (const Opening::JoinedCuff& c : o.joinedCuffs)
+              cuff |= std::find(c.vertices.begin(), c.vertices.end(), v) != c.vertices.end();
+            if (!cuff) trunkPart.push_back(v);
+          }
+          addLoopConstraints(topo, garment, trunkPart, options.boundaryConstraintSpacing, +1.0,
+                             signs);
+        }
     if (kind_ == SeamKind::Armhole && !zeros.empty() && bodyLimbWeight.rows() > 0 &&
         options.partMaxDistance > 0)
       addBodyPartConstraints(garment, topo, body, bodyLimbWeight, sleeved, prior, popt.bodyLength,
                              options, seam, signs);
     seam.prior.resize(static_cast<int>(prior.size()), 3);
-    for (size_t i = 0; i < prior.size(); ++i) seam.prior.row(static_cast<int>(i)) = prior[i].transpose();
+    for (size_t i = 0; i < prior.size(); ++i)
+      seam.prior.row(static_cast<int>(i)) = prior[i].transpose();
 
     int pos = 0, neg = 0;
     for (const ValueConstraint& c : signs) (c.value > 0 ? pos : neg)++;
@@ -364,9 +525,10 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
       seam.removedWhy = fmt::format("every spline removed ({} of {} anchors ill-projected)",
                                     seam.droppedAnchors, seam.anchors);
     } else if (pos == 0 || neg == 0) {
-      seam.removedWhy = fmt::format("sign points of one sign only survived ({} positive, {} "
-                                    "negative)",
-                                    pos, neg);
+      seam.removedWhy = fmt::format(
+          "sign points of one sign only survived ({} positive, {} "
+          "negative)",
+          pos, neg);
     } else {
       try {
         if (!optimizer) optimizer = std::make_unique<BoundaryOptimizer>(garment, bopt);
@@ -375,15 +537,20 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
           const Isoline iso0 = extractIsoline(garment, topo, phi0);
           fmt::print(stderr, "seam {}: {} trunk and {} sleeve body-part points\n", seam.name,
                      seam.trunkPoints, seam.sleevePoints);
-          fmt::print(stderr, "seam {}: {} zero sets, {} signs (+{} −{}), phi0 [{:.3f}, {:.3f}], {} curves, length {:.3f}\n",
-                     seam.name, zeros.size(), signs.size(), pos, neg, phi0.minCoeff(), phi0.maxCoeff(),
-                     iso0.curves.size(), iso0.length());
+          fmt::print(stderr,
+                     "seam {}: {} zero sets, {} signs (+{} −{}), phi0 [{:.3f}, {:.3f}], {} curves, "
+                     "length {:.3f}\n",
+                     seam.name, zeros.size(), signs.size(), pos, neg, phi0.minCoeff(),
+                     phi0.maxCoeff(), iso0.curves.size(), iso0.length());
           std::vector<ValueConstraint> all = signs;
-          for (const auto& z : zeros) for (const auto& q : z) all.push_back({q, 0.0});
+          for (const auto& z : zeros)
+            for (const auto& q : z) all.push_back({q, 0.0});
           const Eigen::VectorXd b = biharmonicFunction(garment, all);
           const Isoline ib = extractIsoline(garment, topo, b);
-          fmt::print(stderr, "  biharmonic [{:.3f}, {:.3f}], {} curves, length {:.3f};", b.minCoeff(), b.maxCoeff(), ib.curves.size(), ib.length());
-          for (const auto& c : signs) fmt::print(stderr, " {:+.0f}:{:.2f}", c.value, c.point.interpolate(garment.F, b));
+          fmt::print(stderr, "  biharmonic [{:.3f}, {:.3f}], {} curves, length {:.3f};",
+                     b.minCoeff(), b.maxCoeff(), ib.curves.size(), ib.length());
+          for (const auto& c : signs)
+            fmt::print(stderr, " {:+.0f}:{:.2f}", c.value, c.point.interpolate(garment.F, b));
           fmt::print(stderr, "\n");
         }
         BoundaryResult r = optimizer->iterate(phi0, signs, noDisplacement);
@@ -394,7 +561,8 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
           seam.islandsRemoved = removeIslands(garment, seam.phi, options.minIslandArea, signs);
           seam.line = extractIsoline(garment, topo, seam.phi);
           seam.kept = !seam.line.curves.empty();
-          if (!seam.kept) seam.removedWhy = "its implicit function has no zero isoline on the garment";
+          if (!seam.kept)
+            seam.removedWhy = "its implicit function has no zero isoline on the garment";
         }
       } catch (const InputError& e) {
         seam.removedWhy = std::string("no seam line: ") + e.what();
@@ -430,12 +598,12 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
                                     const SeamOptions& options,
                                     const Eigen::MatrixXd& bodyLimbWeight) {
   validateMesh(garment, "garment");
-  if (bodyLimbWeight.rows() > 0 &&
-      (bodyLimbWeight.rows() != body.numVertices() || bodyLimbWeight.cols() != 6 ||
-       !bodyLimbWeight.allFinite()))
-    throw InputError(fmt::format("pattern: the body's limb weights are {}×{}, {}×6 finite values "
-                                 "expected (one row per body vertex: limbWeights of its model)",
-                                 bodyLimbWeight.rows(), bodyLimbWeight.cols(), body.numVertices()));
+  if (bodyLimbWeight.rows() > 0 && (bodyLimbWeight.rows() != body.numVertices() ||
+                                    bodyLimbWeight.cols() != 6 || !bodyLimbWeight.allFinite()))
+    throw InputError(
+        fmt::format("pattern: the body's limb weights are {}×{}, {}×6 finite values "
+                    "expected (one row per body vertex: limbWeights of its model)",
+                    bodyLimbWeight.rows(), bodyLimbWeight.cols(), body.numVertices()));
   const std::optional<CoarseMesh> copy =
       options.coarseVertices > 0 ? decimatedCopy(garment, options.coarseVertices) : std::nullopt;
   if (!copy) return seamsOnMesh(garment, kind, body, features, openings, options, bodyLimbWeight);

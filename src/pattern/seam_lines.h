@@ -43,6 +43,17 @@ struct SeamOptions {
   BoundaryOptions boundary;
   int regularisationSteps = 3;  // backward Euler steps of Eq. (4) on the seam's signed distance
   int minAnchors = 3;           // §6.1.2: a spline with fewer surviving anchors is removed
+  // Contact anchors (a top's side and armhole seams: upper_side, shoulder): an anchor Appendix B
+  // drops only because its ray meets the body again within this fraction of the body's height
+  // (≈ 2 cm: an arm hanging against the trunk) is kept; the cloth is pressed between the two,
+  // not hidden behind one. Only on a spline that would otherwise keep fewer than minAnchors.
+  // 0: the paper's tests alone.
+  double contactDistance = 0.012;
+  // ... and only when the scan shows cloth within this fraction of the height of the anchor:
+  // where the scan fused sleeve and side, the nearest cloth is the crease in front of or behind
+  // the contact, 2–5 cm off, on either side by chance (walking: the side seam crossed the
+  // armhole twice, a seam edge lost its partner). Such an anchor stays dropped.
+  double contactClothDistance = 0.012;
   // An open spline with an ill-projected anchor between surviving ones farther than this
   // (fraction of the body's height, ≈ 7 cm) from the garment is removed: the garment does not
   // follow the body there (a skirt over the crotch; loose wear is ~2–5 cm away).
@@ -65,7 +76,7 @@ struct SeamOptions {
   double partNormalDot = 0.5;
   double partMaxDistance = 0.05;  // fraction of the body's height (≈ 8.5 cm); 0: none
   double trunkArmWeight = 0.05;
-  double sleeveArmWeight = 2.0;  // > 1: no sleeve points
+  double sleeveArmWeight = 2.0;       // > 1: no sleeve points
   double partSpacing = 0.03;          // m
   double partAnchorClearance = 0.04;  // m
   // m²: regions of the seam's sign holding no sign point flip to their surroundings' side when
@@ -81,14 +92,26 @@ struct SeamOptions {
 
 // A garment opening: one boundary loop of the cut garment, named by where it lies on the body.
 struct Opening {
-  std::string name;   // "neckline", "hem", "left_cuff", "left_armhole", "waistband",
-                      // "left_leg_opening"
+  std::string name;  // "neckline", "hem", "left_cuff", "left_armhole", "waistband",
+                     // "left_leg_opening"
   Limb limb = Limb::Torso;
-  double t = 0;       // place along the limb (0 root, 1 end): how long a sleeve or leg is
+  double t = 0;               // place along the limb (0 root, 1 end): how long a sleeve or leg is
   std::vector<int> vertices;  // the garment's boundary loop (vertex ids)
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   double length = 0;  // m
+  // A cuff the scan joined to this opening (a hand hanging against the hem): a stretch of the
+  // loop past the armhole on one arm that winds at least half way round the arm's axis. The
+  // sleeve logic takes it as that arm's cuff.
+  struct JoinedCuff {
+    Limb limb = Limb::LeftArm;
+    double t = 0;               // place along the arm (mean over the stretch)
+    std::vector<int> vertices;  // the stretch, in loop order
+  };
+  std::vector<JoinedCuff> joinedCuffs;  // only on openings not named for an arm
 };
+
+// Whether `o` is, or holds, a cuff of `arm` (an opening past the armhole on that arm).
+bool hasCuff(const Opening& o, Limb arm);
 
 // Names every boundary loop of `garment` (topology's loops, in order).
 std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology& topology,
@@ -99,10 +122,11 @@ struct SeamLine {
   std::string name;                   // "side", "armhole", "crotch"
   std::vector<std::string> features;  // the body's seam features it comes from
   bool kept = false;
-  std::string removedWhy;  // when not kept
+  std::string removedWhy;               // when not kept
   int anchors = 0, droppedAnchors = 0;  // projected / ill-projected spline anchors
   int signs = 0, droppedSigns = 0;      // of which dropped by the tests or with their pair
   int pairedDrops = 0;                  // sign points dropped only because their partner was
+  int contactAnchors = 0;  // anchors Appendix B drops that were kept as contacts (of anchors)
   int trunkPoints = 0, sleevePoints = 0;  // the armhole's body-part constraints (+1 / −1)
   int unmatchedPoints = 0;  // garment samples with no body vertex of an agreeing normal near
   std::vector<std::string> splinesKept, splinesRemoved;

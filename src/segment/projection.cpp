@@ -100,6 +100,7 @@ ProjectedPoint FeatureProjector::project(const SurfacePoint& q) const {
     }
   }
   if (!std::isfinite(best)) return out;  // rule 1
+  out.hitDistance = best;
   if (onBody) {
     out.status = ProjectionStatus::HitBody;  // rule 2
     return out;

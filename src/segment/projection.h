@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,7 +37,8 @@ struct ProjectedPoint {
   ProjectionStatus status = ProjectionStatus::NoHit;
   SurfacePoint point;  // p on the scan (valid whatever the status)
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  Eigen::Vector3d r = Eigen::Vector3d::Zero();  // nearest ray hit (when any)
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();                   // nearest ray hit (when any)
+  double hitDistance = std::numeric_limits<double>::infinity();  // |q − r| along the ray (m)
   bool ok() const { return status == ProjectionStatus::Ok; }
 };
 
