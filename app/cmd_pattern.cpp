@@ -5,7 +5,6 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
-#include <map>
 #include <memory>
 
 #include "app/commands.h"
@@ -15,7 +14,7 @@
 #include "app/segment_output.h"
 #include "core/error.h"
 #include "eval/pattern_metrics.h"
-#include "io/read_scan.h"
+#include "io/read_obj.h"
 #include "synth/truth.h"
 
 namespace fs = std::filesystem;
@@ -39,27 +38,13 @@ struct PanelsCommand {
   PatternOptions pattern;
 };
 
-// A garment OBJ written by `segment`, back in the normalised frame, with the vertices an OBJ
-// reader split per corner joined again (exact positions: the file holds each vertex once).
+// A garment OBJ written by `segment`, back in the normalised frame, its vertices as the file
+// indexes them (read_obj.h: a weld by position would join distinct vertices of the exact cut).
 TriMesh readGarment(const fs::path& path, const Scan& scan) {
-  ReadOptions ro;
-  ro.loadTexture = false;
-  const Scan g = readScan(path, ro);
-  TriMesh m;
-  std::map<std::array<double, 3>, int> id;
-  std::vector<Eigen::Vector3d> V;
-  m.F.resize(g.mesh.numFaces(), 3);
-  for (int f = 0; f < g.mesh.numFaces(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d p = g.mesh.V.row(g.mesh.F(f, k)).transpose();
-      const auto [it, added] = id.try_emplace({p.x(), p.y(), p.z()}, static_cast<int>(V.size()));
-      if (added) V.push_back(p);
-      m.F(f, k) = it->second;
-    }
-  m.V.resize(static_cast<int>(V.size()), 3);
+  TriMesh m = readObjGeometry(path);
   const Eigen::Affine3d toNormal = scan.toInputFrame.inverse();
-  for (size_t i = 0; i < V.size(); ++i)
-    m.V.row(static_cast<int>(i)) = (toNormal * V[i]).transpose();
+  for (int v = 0; v < m.numVertices(); ++v)
+    m.V.row(v) = (toNormal * Eigen::Vector3d(m.V.row(v).transpose())).transpose();
   return m;
 }
 
