@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -36,6 +37,19 @@ Canonical bindingJoint(const Panel& panel, GarmentKind kind, const Eigen::Matrix
   if (left) return Canonical::LeftHip;
   if (right) return Canonical::RightHip;
   return Canonical::Pelvis;
+}
+
+// The joints a panel bound to `c` follows down its limb: a sleeve its shoulder, elbow and wrist, a
+// trouser leg its hip, knee and ankle; any other panel only its own joint.
+std::vector<Canonical> limbChain(Canonical c) {
+  using C = Canonical;
+  switch (c) {
+    case C::LeftShoulder: return {C::LeftShoulder, C::LeftElbow, C::LeftWrist};
+    case C::RightShoulder: return {C::RightShoulder, C::RightElbow, C::RightWrist};
+    case C::LeftHip: return {C::LeftHip, C::LeftKnee, C::LeftAnkle};
+    case C::RightHip: return {C::RightHip, C::RightKnee, C::RightAnkle};
+    default: return {c};
+  }
 }
 
 int jointIndex(const BodyModel& model, Canonical c) {
@@ -129,6 +143,33 @@ Eigen::Vector3d partNormal(const Eigen::MatrixX3d& Q, const Eigen::MatrixX2d& P2
 
 }  // namespace
 
+Eigen::MatrixX3d moveWithNearestBone(const std::vector<Eigen::Vector3d>& joints,
+                                     const std::vector<Eigen::Affine3d>& transforms,
+                                     const Eigen::MatrixX3d& P) {
+  if (joints.empty() || joints.size() != transforms.size())
+    throw InputError(fmt::format("placement: {} joints for {} bone transforms", joints.size(),
+                                 transforms.size()));
+  const auto segmentDistance = [](const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                  const Eigen::Vector3d& b) {
+    const Eigen::Vector3d ab = b - a;
+    const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+    return (p - (a + t * ab)).norm();
+  };
+  Eigen::MatrixX3d out(P.rows(), 3);
+  for (int v = 0; v < P.rows(); ++v) {
+    const Eigen::Vector3d x = P.row(v).transpose();
+    size_t best = 0;
+    double bestDistance = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < joints.size(); ++k) {
+      const double d =
+          segmentDistance(x, joints[k], k + 1 < joints.size() ? joints[k + 1] : joints[k]);
+      if (d < bestDistance) bestDistance = d, best = k;
+    }
+    out.row(v) = (transforms[best] * x).transpose();
+  }
+  return out;
+}
+
 Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
                       const PlacementInput& input, const PlacementOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -184,8 +225,19 @@ Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
     pp.joint = bindingJoint(panel, kind, garmentCanonical);
     const Eigen::Affine3d M = jointTransform(pp.joint);
     const int n = static_cast<int>(fp.position.rows());
-    pp.part.resize(n, 3);
-    for (int v = 0; v < n; ++v) pp.part.row(v) = (M * fp.position.row(v).transpose()).transpose();
+    // The part unposed: each point with the bone of its limb it lies nearest (the panel's own
+    // joint's bone from it to the next joint, then the next), so that a sleeve scanned with its
+    // elbow bent, or a trouser leg in a stride, is straightened with the limb it covers; bound
+    // to the shoulder alone, a bent sleeve's forearm half stays bent across the straight rest
+    // arm and the plane and turn fitted to it lay the panel twisted round the arm (bent_arm: the
+    // underarm seam 115 mm open after sewing). The panel itself stays rigid (§6.3).
+    std::vector<Eigen::Vector3d> joints;
+    std::vector<Eigen::Affine3d> bones;
+    for (Canonical c : limbChain(pp.joint)) {
+      joints.push_back(garmentCanonical.row(static_cast<int>(c)).transpose());
+      bones.push_back(jointTransform(c));
+    }
+    pp.part = moveWithNearestBone(joints, bones, fp.position);
 
     // The plane: normal = the part's outward normal, "up" = the part's grain.
     const Eigen::MatrixX2d& P2 = fp.remeshed.V;

@@ -5,7 +5,10 @@
 // chest, sleeves to their shoulders, lower panels to the hips: a trouser leg's panels to its
 // own hip, a skirt's to the pelvis) and unposed with it. The paper unposes to SMPL's zero pose;
 // ours is the drape pose (posing.h: A-pose arms, legs turned out 8°), because a zero pose of
-// some body models has the arms against the torso. The remeshed flat panel, whose every vertex
+// some body models has the arms against the torso. Beyond §6.3, the part is unposed down its
+// limb (each point with the bone it lies nearest: a sleeve's upper arm with the shoulder, its
+// forearm with the elbow), so that a sleeve scanned with its elbow bent is laid along the
+// straight rest arm; the panel itself stays rigid. The remeshed flat panel, whose every vertex
 // has its point on the 3D panel (flat_pattern.h), is then laid in the plane facing the part's
 // outward normal and turned in that plane to match the part (2D Procrustes); for the trunk's
 // front and back panels that is the paper's "rotate about the frontal axis". Last it is moved
@@ -70,6 +73,14 @@ struct Placement {
   std::vector<std::string> warnings;
   double seconds = 0;
 };
+
+// Each point of P (#P×3) moved by the transform of the bone it lies nearest: bone k runs from
+// joints[k] to joints[k+1] (the last is the point joints.back()) and moves with transforms[k].
+// Placement unposes a panel's part so, down its limb (shoulder, elbow, wrist; hip, knee, ankle).
+// Throws InputError when the counts differ or no joint is given.
+Eigen::MatrixX3d moveWithNearestBone(const std::vector<Eigen::Vector3d>& joints,
+                                     const std::vector<Eigen::Affine3d>& transforms,
+                                     const Eigen::MatrixX3d& P);
 
 // Throws InputError for a missing model or parameters that do not fit it.
 Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
