@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "app/commands.h"
+#include "io/read_scan.h"
 
 namespace s2p::app {
 
@@ -61,6 +62,7 @@ void addScanCommands(CLI::App& app, Commands& out) {
     struct Opt {
       std::string in, out, views = "front";
       int height = 1024;
+      bool asIs = false;
       LoadOptions load;
     };
     auto o = std::make_shared<Opt>();
@@ -72,12 +74,21 @@ void addScanCommands(CLI::App& app, Commands& out) {
     cmd->add_option("--height", o->height, "Image height in pixels")
         ->capture_default_str()
         ->check(CLI::Range(64, 8192));
+    cmd->add_flag("--as-is", o->asIs,
+                  "Render the file's mesh as it is (metres, +Y up), without the clean-up and the "
+                  "checks that it is a person: for panels.obj, draped.obj, unsettled.obj");
     addLoadOptions(cmd, o->load);
     out.push_back({cmd, [o](Progress& progress) {
                      const std::vector<View> views = parseViews(o->views);
-                     const LoadedScan s = loadScan(o->in, o->load, progress);
+                     const Scan scan = [&] {
+                       if (!o->asIs) return loadScan(o->in, o->load, progress).scan;
+                       progress.begin("read " + o->in);
+                       Scan raw = readScan(o->in);
+                       progress.end();
+                       return raw;
+                     }();
                      progress.begin("render");
-                     writePng(o->out, renderScan(s.scan, views, o->height));
+                     writePng(o->out, renderScan(scan, views, o->height));
                      progress.end();
                      progress.message("wrote " + o->out);
                      return 0;

@@ -169,29 +169,50 @@ bool drapeWritten(const PipelineResult& run) {
          run.drape.drape.garment.numFaces() > 0;
 }
 
-void writeDrape(const fs::path& dir, const PipelineResult& run) {
+namespace {
+
+// The cloth as one OBJ with a group per panel (a face belongs to the panel of its vertices).
+void writeCloth(const fs::path& file, const PipelineResult& run) {
   const DrapeStage& d = run.drape;
-  if (!drapeWritten(run)) {
-    std::error_code ignored;
-    fs::remove(dir / "draped.obj", ignored);
-    fs::remove(dir / "drape_compare.png", ignored);
-    return;
-  }
-  fs::create_directories(dir);
   const DrapeResult& r = d.drape;
   Eigen::VectorXi group(r.garment.numFaces());
   std::vector<std::string> names;
-  for (size_t c = 0, f = 0; c + 1 < r.panelOffset.size(); ++c) {
+  for (size_t c = 0; c + 1 < r.panelOffset.size(); ++c) {
     const Panel& p = run.pattern.panels.panels[d.panelOf[c]];
     names.push_back(p.garment + "_" + p.name);
-    const int nf = run.pattern.flat.panels[d.panelOf[c]].remeshed.F.rows();
-    group.segment(static_cast<int>(f), nf).setConstant(static_cast<int>(c));
-    f += nf;
+  }
+  for (int f = 0, c = 0; f < r.garment.numFaces(); ++f) {
+    while (c + 2 < static_cast<int>(r.panelOffset.size()) && r.garment.F(f, 0) >= r.panelOffset[c + 1])
+      ++c;
+    group[f] = c;
   }
   MeshAttributes attrs;
   attrs.faceGroups = &group;
   attrs.groupNames = &names;
-  writeObj(dir / "draped.obj", r.garment, attrs);
+  writeObj(file, r.garment, attrs);
+}
+
+}  // namespace
+
+void writeDrape(const fs::path& dir, const PipelineResult& run) {
+  const DrapeStage& d = run.drape;
+  std::error_code ignored;
+  fs::remove(dir / "unsettled.obj", ignored);
+  if (!drapeWritten(run)) {
+    fs::remove(dir / "draped.obj", ignored);
+    fs::remove(dir / "drape_compare.png", ignored);
+    // A drape that ran but did not settle (seams left open, still moving): its last state, named
+    // as what it is, to show where the seams stayed open (report.json says which pairs).
+    const DrapeResult& r = d.drape;
+    if (d.ran && r.status == DrapeStatus::NotSettled && r.garment.numFaces() > 0 &&
+        r.garment.V.allFinite()) {
+      fs::create_directories(dir);
+      writeCloth(dir / "unsettled.obj", run);
+    }
+    return;
+  }
+  fs::create_directories(dir);
+  writeCloth(dir / "draped.obj", run);
   if (!d.garments.empty()) writeComparePng(dir / "drape_compare.png", run);
 }
 

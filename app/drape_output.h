@@ -15,7 +15,8 @@ namespace s2p::app {
 // failed or did not settle in its step budget is reported (report.json) and never written.
 bool drapeWritten(const PipelineResult& run);
 // Writes draped.obj and drape_compare.png when drapeWritten; otherwise removes those two files
-// if an earlier run left them (they would not be this pattern's drape). Pattern files are not
+// if an earlier run left them (they would not be this pattern's drape). A drape that ran and did
+// not settle leaves its last state as unsettled.obj (never draped.obj). Pattern files are not
 // touched either way.
 void writeDrape(const std::filesystem::path& dir, const PipelineResult& run);
 nlohmann::json drapeToJson(const PipelineResult& run);

@@ -1008,11 +1008,8 @@ bool ClothSim::step(std::string& why) {
   }
   peakStrain_ = std::max(peakStrain_, maxStrain);
   if (maxStrain > o_.explodeStrain) {
-    const Vector3d& p = x_[tris_[worst].v[0]];
-    why = fmt::format(
-        "a triangle is stretched {:.1f}× its pattern size (threshold {:.1f}×), garment vertex {} "
-        "at ({:.3f}, {:.3f}, {:.3f})",
-        maxStrain, o_.explodeStrain, tris_[worst].v[0], p.x(), p.y(), p.z());
+    why = fmt::format("a triangle is stretched {:.1f}× its pattern size (threshold {:.1f}×) at {}",
+                      maxStrain, o_.explodeStrain, where(tris_[worst].v[0]));
     return false;
   }
   lastStepSpeed_ = maxSpeed;
@@ -1126,11 +1123,9 @@ void ClothSim::run() {
     }
     if (ok && !r.settled)
       r.warnings.push_back(fmt::format(
-          "drape: the cloth did not come to rest in the drape budget of {} steps (garment vertex "
-          "{} at ({:.3f}, {:.3f}, {:.3f}) still moved at {:.3f} m/s over the last {} steps; at "
-          "rest below {:.3f} m/s)",
-          o_.drapeMaxSteps, windowFastest_, x_[windowFastest_].x(), x_[windowFastest_].y(),
-          x_[windowFastest_].z(), windowSpeed_, o_.restSteps, o_.restSpeed));
+          "drape: the cloth did not come to rest in the drape budget of {} steps ({} still "
+          "moved at {:.3f} m/s over the last {} steps; at rest below {:.3f} m/s)",
+          o_.drapeMaxSteps, where(windowFastest_), windowSpeed_, o_.restSteps, o_.restSpeed));
   }
 
   // The seams: every stitch sewn by the end of the run (stitches go on closing while draping).

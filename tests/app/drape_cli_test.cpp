@@ -77,8 +77,9 @@ TEST(DrapeCli, RunDrapesThePatternAndMeasuresItAgainstTheScannedGarment_Slow) {
   EXPECT_TRUE(staged) << "the drape's time is in the report's stages";
 }
 
-// A budget too small to sew the seams: reported in report.json, nothing written to drape/ (an
-// earlier run's drape is removed: it is not this pattern's), every pattern file written.
+// A budget too small to sew the seams: reported in report.json, no draped.obj (an earlier run's
+// drape is removed: it is not this pattern's) but the last state as unsettled.obj, every
+// pattern file written.
 TEST(DrapeCli, ADrapeThatDoesNotSettleInItsBudgetIsReportedAndNotWritten_Slow) {
   test::TempDir dir;
   const fs::path scan = synthScan(dir.path(), "tshirt_trousers");
@@ -99,6 +100,8 @@ TEST(DrapeCli, ADrapeThatDoesNotSettleInItsBudgetIsReportedAndNotWritten_Slow) {
       << report["warnings"];
   EXPECT_FALSE(fs::exists(again / "drape" / "draped.obj"));
   EXPECT_FALSE(fs::exists(again / "drape" / "drape_compare.png"));
+  // Its last state is left, named for what it is, to show where the seams stayed open.
+  EXPECT_EQ(objVertexCount(again / "drape" / "unsettled.obj"), d.at("vertices").get<int>());
   for (const char* f : {"pattern.json", "pattern.svg", "panels.obj", "stitches.json"})
     EXPECT_TRUE(fs::exists(again / "pattern" / f)) << f;
 }
