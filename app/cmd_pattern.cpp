@@ -156,8 +156,7 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
     options.enabled = true;
     if (cmd.drapeSteps >= 0)
       options.drape.sewMaxSteps = options.drape.drapeMaxSteps = cmd.drapeSteps;
-    progress.begin("sew and drape the pattern on the rest body, compare with the scan");
-    run.drape = runDrapeStage(run.pattern, run.segmentation, body, options);
+    run.drape = runDrapeStage(run.pattern, run.segmentation, body, options, &progress);
     progress.end();
     writeDrape(fs::path(cmd.out) / "drape", run);
     fs::create_directories(fs::path(cmd.out) / "drape");

@@ -43,10 +43,10 @@ std::vector<Eigen::MatrixX3d> carryDrape(const DrapeInput& coarse,
 
 CoarseToFineDrape runDrapeCoarseToFine(const DrapeInput& fine, const DrapeInput& coarse,
                                        const DrapeOptions& options,
-                                       const CoarseToFineOptions& c2f) {
+                                       const CoarseToFineOptions& c2f, Progress* progress) {
   const auto t0 = std::chrono::steady_clock::now();
   CoarseToFineDrape out;
-  out.coarse = runDrape(coarse, options);
+  out.coarse = runDrape(coarse, options, progress, "coarse drape");
   auto finish = [&] {
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
@@ -103,7 +103,7 @@ CoarseToFineDrape runDrapeCoarseToFine(const DrapeInput& fine, const DrapeInput&
   if (c2f.fineSubsteps > 0) o.substeps = c2f.fineSubsteps;
   if (!c2f.fineGravity) o.gravity.setZero();
   if (c2f.fineDamping > 0) o.damping = c2f.fineDamping;
-  out.fine = runDrape(start, o);
+  out.fine = runDrape(start, o, progress, "fine drape");
   out.carried = true;
   return finish();
 }

@@ -68,8 +68,10 @@ std::vector<Eigen::MatrixX3d> carryDrape(const DrapeInput& coarse,
 // Sews and drapes `coarse` with `options`, carries the drape onto `fine` and drapes it from there
 // (options with startsDraped and the fine budgets). fine and coarse: the same pattern at two
 // resolutions (same panels, same 2D frames, each with its own stitches).
+// progress (optional): the phases of both drapes (runDrape), labelled coarse and fine.
 CoarseToFineDrape runDrapeCoarseToFine(const DrapeInput& fine, const DrapeInput& coarse,
                                        const DrapeOptions& options = {},
-                                       const CoarseToFineOptions& c2f = {});
+                                       const CoarseToFineOptions& c2f = {},
+                                       Progress* progress = nullptr);
 
 }  // namespace s2p

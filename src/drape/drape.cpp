@@ -106,7 +106,7 @@ class ClothSim {
     build(input);
   }
 
-  void run();
+  void run(Progress* progress, const std::string& label);
 
  private:
   const DrapeOptions& o_;
@@ -1038,7 +1038,7 @@ std::string ClothSim::where(int v) const {
                      v - result_.panelOffset[p], x_[v].x(), x_[v].y(), x_[v].z());
 }
 
-void ClothSim::run() {
+void ClothSim::run(Progress* progress, const std::string& label) {
   DrapeResult& r = result_;
   std::string why;
   bool ok = true;
@@ -1065,9 +1065,14 @@ void ClothSim::run() {
         fmt::format("drape: the pattern has no stitches; the panels are draped unsewn"));
     r.seamsClosed = true;
   } else {
+    if (progress)
+      progress->begin(fmt::format("{}: sew {} stitch pairs ({} vertices)", label,
+                                  stitches_.size(), nv_),
+                      o_.sewMaxSteps);
     int closedFor = -1, lastOpen = static_cast<int>(stitches_.size()), progressStep = 0;
     while (r.sewSteps < o_.sewMaxSteps) {
       ++r.sewSteps;
+      if (progress) progress->update(r.sewSteps);
       if (!doStep()) break;
       const int open = sewClosedStitches();
       markNearOpenStitches();
@@ -1101,8 +1106,12 @@ void ClothSim::run() {
     std::vector<Vector3d> windowStart = x_;
     const double window = std::max(1, o_.restSteps) * o_.timeStep;  // seconds
     int calm = 0;
+    if (progress)
+      progress->begin(fmt::format("{}: drape until at rest ({} vertices)", label, nv_),
+                      o_.drapeMaxSteps);
     while (r.drapeSteps < o_.drapeMaxSteps) {
       ++r.drapeSteps;
+      if (progress) progress->update(r.drapeSteps);
       if (!doStep()) break;
       sewClosedStitches();
       markNearOpenStitches();
@@ -1247,13 +1256,15 @@ void validate(const DrapeInput& in, const DrapeOptions& o) {
 
 }  // namespace
 
-DrapeResult runDrape(const DrapeInput& input, const DrapeOptions& options) {
+DrapeResult runDrape(const DrapeInput& input, const DrapeOptions& options, Progress* progress,
+                     const std::string& label) {
   const auto t0 = std::chrono::steady_clock::now();
   validate(input, options);
   validateMesh(input.body, "drape body");
   DrapeResult result;
   ClothSim sim(input, options, result);
-  sim.run();
+  sim.run(progress, label);
+  if (progress) progress->end();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   result.constraintSolvesPerSecond =
       result.seconds > 0 ? static_cast<double>(result.constraintSolves) / result.seconds : 0;

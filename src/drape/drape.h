@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.h"
 #include "core/tri_mesh.h"
 #include "drape/cloth.h"
 
@@ -145,8 +146,10 @@ struct DrapeResult {
 
 // Sews and drapes. Throws InputError for malformed input (sizes, indices out of range,
 // non-finite coordinates, degenerate options); a simulation that becomes unstable returns
-// status Failed with the reason, never a garbage drape.
-DrapeResult runDrape(const DrapeInput& input, const DrapeOptions& options = {});
+// status Failed with the reason, never a garbage drape. progress (optional): one stage per
+// phase, "LABEL: sew …" and "LABEL: drape …", counting steps against the phase's budget.
+DrapeResult runDrape(const DrapeInput& input, const DrapeOptions& options = {},
+                     Progress* progress = nullptr, const std::string& label = "drape");
 
 // Intersecting triangle pairs of `mesh` (#F×3) that share no vertex, where `weld` (#V, may be
 // empty) maps each vertex to a representative (sewn partners share one).

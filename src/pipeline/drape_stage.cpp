@@ -109,7 +109,8 @@ Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& bod
 }
 
 DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segmentation,
-                         const PosedFeatures& body, const DrapeStageOptions& options) {
+                         const PosedFeatures& body, const DrapeStageOptions& options,
+                         Progress* progress) {
   const auto t0 = std::chrono::steady_clock::now();
   DrapeStage out;
   if (!options.enabled) return out;
@@ -134,7 +135,8 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
     out.warnings.push_back(
         fmt::format("drape: sewn at the pattern's own resolution only ({})", why));
   if (!coarse.panels.empty() && 2 * out.coarseVertices < fineVertices) {
-    out.twoLevel = runDrapeCoarseToFine(in, coarse, options.drape, options.coarseToFine);
+    out.twoLevel =
+        runDrapeCoarseToFine(in, coarse, options.drape, options.coarseToFine, progress);
     out.drape = std::move(out.twoLevel.fine);
     out.twoLevel.fine = DrapeResult{};
     out.coarseToFine = true;
@@ -142,12 +144,13 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
       for (const std::string& w : out.twoLevel.coarse.warnings)
         out.warnings.push_back(fmt::format("coarse ({:.0f} mm) {}", 1e3 * options.coarseEdge, w));
   } else {
-    out.drape = runDrape(in, options.drape);
+    out.drape = runDrape(in, options.drape, progress);
     out.coarseVertices = 0;
   }
   out.ran = true;
   for (const std::string& w : out.drape.warnings) out.warnings.push_back(w);
 
+  if (progress) progress->begin("unpose the scanned garments, compare the drape with them");
   // Per garment: its cloth panels (vertices as in drape.garment) against its scanned mesh.
   std::map<std::string, int> index;
   out.garmentOf.assign(out.panelOf.size(), -1);

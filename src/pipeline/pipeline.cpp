@@ -102,9 +102,8 @@ PipelineResult runPipeline(const Scan& scan, const BodyModel& model, const Pipel
     for (const auto& s : out.pattern.stages) out.stages.push_back(s);
     if (options.drape.enabled) {
       t = Clock::now();
-      progress.begin("sew and drape the pattern on the rest body, compare with the scan");
-      try {
-        out.drape = runDrapeStage(out.pattern, out.segmentation, out.body, options.drape);
+      try {  // its phases are stages of the progress output
+        out.drape = runDrapeStage(out.pattern, out.segmentation, out.body, options.drape, &progress);
       } catch (const Error& e) {  // a pattern the simulator refuses is reported, not fatal
         out.drape = {};
         out.drape.warnings.push_back(std::string("drape: not run: ") + e.what());

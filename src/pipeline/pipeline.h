@@ -88,8 +88,10 @@ Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& bod
 
 // Drapes the pattern and compares each garment. Never throws for a simulation that fails: the
 // failure is in warnings (and drape.status); throws InputError only for inconsistent input.
+// progress (optional): each phase of the drape, then the comparison, as stages of their own.
 DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segmentation,
-                         const PosedFeatures& body, const DrapeStageOptions& options);
+                         const PosedFeatures& body, const DrapeStageOptions& options,
+                         Progress* progress = nullptr);
 
 struct PipelineOptions {
   ScanFitOptions fit;
