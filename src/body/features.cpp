@@ -342,6 +342,22 @@ void seamFeatures(const Rules& r, const FeatureOptions& opt, FeatureSet& fs) {
         addSign(r, shoulder, fmt::format("torso_{:.2f}_{}_{:+.0f}", t, s.name, f),
                 extremePoint(loop, (s.sign * kLeft + f * kFront).normalized()), +1);
   }
+  // The sleeve along the arm (beyond the paper's cuff): − on the arm's outer side (lateral and
+  // 45° to the front and back, away from the trunk) at the middle of the upper arm and of the
+  // forearm. Where the arm hangs against the trunk the scan joins sleeve and side, and the cuff's
+  // −1 alone (far down a long sleeve, beside the hem's +1) let the trunk's + spread over the
+  // whole upper sleeve (studio_relaxed). A bare arm leaves these points without cloth (Appendix
+  // B drops them), so they hold only a sleeve that is there.
+  for (const Side& s : kSides)
+    for (const BonePlace& b :
+         {BonePlace{s.shoulder, s.elbow, 0.5}, BonePlace{s.elbow, s.wrist, 0.5}}) {
+      const Vec3 bone = r.at(b.b) - r.at(b.a);
+      const SectionLoop loop = r.boneLoop(b.a, b.b, b.t, fmt::format("{} arm", s.name));
+      for (double f : {-1.0, 0.0, 1.0})
+        addSign(r, shoulder, fmt::format("arm_{}_{:.2f}_{}_{:+.0f}", toString(b.a), b.t, s.name, f),
+                extremePoint(loop, orthogonalTo(s.sign * kLeft + f * kFront, bone).normalized()),
+                -1);
+    }
   fs.seams.push_back(std::move(shoulder));
 
   // Lower side seams: outer (ankle → hip → waist) and inner (ankle → crotch) per leg.

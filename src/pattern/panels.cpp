@@ -255,6 +255,8 @@ class GarmentPanelizer {
             fmt::format("pattern: seam '{}' of garment '{}' has {} values for {} "
                         "vertices",
                         s.name, garment_.name, s.phi.size(), mesh.numVertices()));
+    for (const SeamLine& s : gp.seams)
+      if (s.kind == SeamKind::Armhole) noteFolds(mesh, s, gp);
     seamed_ = insertSeams(mesh, gp.seams);
     topo_ = std::make_unique<MeshTopology>(seamed_.mesh.F, seamed_.mesh.numVertices());
     if (seamed_.seams.empty()) {
@@ -280,6 +282,30 @@ class GarmentPanelizer {
   }
 
  private:
+  // Says, per arm, how much of the armhole seam follows a fold where the scan fused the sleeve
+  // to the trunk (armholeFolds): there the seam cannot pass under the arm at the armpit.
+  void noteFolds(const TriMesh& mesh, const SeamLine& armhole, GarmentPanels& gp) const {
+    const std::vector<SeamFold> folds = armholeFolds(mesh, armhole, options_.seams);
+    for (const char* side : {"left", "right"}) {
+      double length = 0, top = -std::numeric_limits<double>::infinity(),
+             low = std::numeric_limits<double>::infinity();
+      for (const SeamFold& f : folds) {
+        if (std::string(frame_.side(0.5 * (f.a + f.b))) != side) continue;
+        length += (f.b - f.a).norm();
+        for (const Vec3& p : {f.a, f.b}) {
+          top = std::max(top, frame_.height(p));
+          low = std::min(low, frame_.height(p));
+        }
+      }
+      if (length == 0 || top - low < options_.seams.creaseReportDrop) continue;
+      gp.notes.push_back(fmt::format(
+          "{} armhole: {:.0f} mm of it follow a fold down {:.0f} mm: the scan fused sleeve and "
+          "trunk there (the sleeve's underside and the side under the arm are hidden in the "
+          "contact), so the seam runs down the crease, not under the arm",
+          side, 1000 * length, 1000 * (top - low)));
+    }
+  }
+
   int seamIndex(SeamKind kind) const {
     for (size_t k = 0; k < seamed_.seams.size(); ++k)
       if (seamed_.seams[k]->kind == kind) return static_cast<int>(k);

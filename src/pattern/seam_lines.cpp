@@ -625,4 +625,53 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
   return seams;
 }
 
+std::vector<SeamFold> armholeFolds(const TriMesh& garment, const SeamLine& seam,
+                                   const SeamOptions& options) {
+  std::vector<SeamFold> out;
+  if (!seam.kept || seam.phi.size() != garment.numVertices()) return out;
+  const Eigen::MatrixX3d n = faceNormals(garment);
+  const Eigen::VectorXd area = faceAreas(garment);
+  Eigen::MatrixX3d centroid(garment.numFaces(), 3);
+  for (int f = 0; f < garment.numFaces(); ++f)
+    centroid.row(f) = (garment.V.row(garment.F(f, 0)) + garment.V.row(garment.F(f, 1)) +
+                       garment.V.row(garment.F(f, 2))) /
+                      3.0;
+  // Outward: a garment wraps the body, so most of its area faces away from its centre.
+  const Eigen::RowVector3d centre = garment.V.colwise().mean();
+  double facing = 0;
+  for (int f = 0; f < garment.numFaces(); ++f)
+    facing += area[f] * n.row(f).dot(centroid.row(f) - centre);
+  const double outward = facing >= 0 ? 1.0 : -1.0;
+  const RowCloud cloud{&centroid};
+  const RowTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  const double r2 = options.creaseRadius * options.creaseRadius;
+  const double minCos = std::cos(options.creaseAngle * M_PI / 180);
+  std::vector<std::pair<std::uint32_t, double>> hits;
+  forEachSegment(seam.line, [&](const Vec3& a, const Vec3& b) {
+    const Vec3 mid = 0.5 * (a + b);
+    hits.clear();
+    tree.radiusSearch(mid.data(), r2, hits, nanoflann::SearchParams(32, 0, false));
+    // The cloth on each side of the seam within the radius: area-weighted normal and centre.
+    Vec3 nSide[2] = {Vec3::Zero(), Vec3::Zero()}, cSide[2] = {Vec3::Zero(), Vec3::Zero()};
+    double wSide[2] = {0, 0};
+    for (const auto& [f, d2] : hits) {
+      double phi = 0;
+      for (int k = 0; k < 3; ++k) phi += seam.phi[garment.F(static_cast<int>(f), k)];
+      if (phi == 0) continue;
+      const int s = phi > 0 ? 1 : 0;
+      const double w = area[static_cast<int>(f)];
+      nSide[s] += w * outward * n.row(static_cast<int>(f)).transpose();
+      cSide[s] += w * centroid.row(static_cast<int>(f)).transpose();
+      wSide[s] += w;
+    }
+    if (wSide[0] <= 0 || wSide[1] <= 0 || nSide[0].norm() == 0 || nSide[1].norm() == 0) return;
+    const Vec3 n0 = nSide[0].normalized(), n1 = nSide[1].normalized();
+    const Vec3 c0 = cSide[0] / wSide[0], c1 = cSide[1] / wSide[1];
+    // Concave: each side's cloth lies on the outer side of the other's tangent plane.
+    if (n0.dot(n1) <= minCos && (c1 - c0).dot(n0) > 0 && (c0 - c1).dot(n1) > 0)
+      out.push_back({a, b});
+  });
+  return out;
+}
+
 }  // namespace s2p

@@ -88,6 +88,14 @@ struct SeamOptions {
   // decimated copy of about this many (core/coarse_mesh.h) and carried back (the signed
   // distance interpolated at each vertex's closest point on the copy); 0: at full resolution.
   int coarseVertices = 100000;
+  // Folds (armholeFolds): an armhole stretch lies on a fold where the cloth within creaseRadius
+  // (m) on its two sides turns inwards, towards each other, by at least creaseAngle degrees.
+  // Cloth over a smooth body turns ~10–25° across 3 cm (the armpit, the shoulder); a sleeve the
+  // scan fused to the trunk's side meets it at ~90°.
+  double creaseRadius = 0.015;
+  double creaseAngle = 60;
+  // A fold reaching this far down (m) is reported (panels' notes): beyond a rounded armpit.
+  double creaseReportDrop = 0.03;
 };
 
 // A garment opening: one boundary loop of the cut garment, named by where it lies on the body.
@@ -150,5 +158,18 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
                                     const std::vector<Opening>& openings,
                                     const SeamOptions& options = {},
                                     const Eigen::MatrixXd& bodyLimbWeight = Eigen::MatrixXd());
+
+// One stretch of an armhole seam's isoline that runs along a fold (SeamOptions::creaseRadius).
+struct SeamFold {
+  Eigen::Vector3d a, b;  // the segment's end points (m)
+};
+
+// The segments of `seam`'s isoline that lie on a concave fold of `garment`: where an arm hangs
+// against the trunk the scan joins the sleeve's cloth to the side's along a crease, the sleeve's
+// underside and the side under the arm are hidden in the contact, and every curve that parts
+// sleeve from trunk must follow the crease from the armpit down to where the contact ends (the
+// cuff, when it reaches it). Empty for a seam not kept.
+std::vector<SeamFold> armholeFolds(const TriMesh& garment, const SeamLine& seam,
+                                   const SeamOptions& options = {});
 
 }  // namespace s2p

@@ -185,13 +185,20 @@ TEST_P(FeatureRules, LoopsRingTheirBonesAndSignsLieOnTheirSides_Slow) {
       }
     for (const auto& s : fs.seam("crotch")->signs)
       EXPECT_EQ(s.value > 0, P(s.point).x() > J(C::Pelvis).x()) << s.name;
-    // Shoulder: chest front and back, and the torso's sides below the arms (2 heights, 3 points
-    // a side), on their side and below the shoulder joints.
-    EXPECT_EQ(fs.seam("shoulder")->signs.size(), 14u);
+    // Shoulder: + on the chest front and back, and the torso's sides below the arms (2 heights,
+    // 3 points a side), on their side and below the shoulder joints; − on the arms' outer sides
+    // (mid upper arm and mid forearm, 3 points each), farther out than the shoulder joint.
+    EXPECT_EQ(fs.seam("shoulder")->signs.size(), 26u);
     for (const auto& s : fs.seam("shoulder")->signs) {
+      const double side = s.name.find("_left_") != std::string::npos ? 1.0 : -1.0;
+      if (s.name.rfind("arm_", 0) == 0) {
+        EXPECT_LT(s.value, 0) << s.name;
+        const C shoulder = side > 0 ? C::LeftShoulder : C::RightShoulder;
+        EXPECT_GT(side * (P(s.point).x() - J(shoulder).x()), 0) << s.name;
+        continue;
+      }
       EXPECT_GT(s.value, 0) << s.name;
       if (s.name.rfind("torso_", 0) != 0) continue;
-      const double side = s.name.find("_left_") != std::string::npos ? 1.0 : -1.0;
       EXPECT_GT(side * (P(s.point).x() - J(C::Pelvis).x()), 0) << s.name;
       EXPECT_LT(P(s.point).y(), std::min(J(C::LeftShoulder).y(), J(C::RightShoulder).y()) - 0.1)
           << s.name;

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -61,7 +62,9 @@ struct ArmDownScene {
     std::vector<int> keep;
     for (int f = 0; f < closed.numFaces(); ++f) {
       const Vec3 c = (closed.V.row(closed.F(f, 0)) + closed.V.row(closed.F(f, 1)) +
-                      closed.V.row(closed.F(f, 2))).transpose() / 3;
+                      closed.V.row(closed.F(f, 2)))
+                         .transpose() /
+                     3;
       const bool cuff = along(c) > 0.25 && arm(c) < trunk(c);
       if (c.y() < 0.5 && c.y() > -0.1 && !cuff) keep.push_back(f);
     }
@@ -131,7 +134,8 @@ struct ArmDownScene {
     const Vec3 u = down.cross(Vec3::UnitZ()).normalized(), w = Vec3::UnitZ();
     for (int i = 0; i < 16; ++i) {
       const double t = 2 * M_PI * i / 16;
-      loop.anchors.push_back(on(shoulder + 0.04 * down + 0.05 * (std::cos(t) * u + std::sin(t) * w)));
+      loop.anchors.push_back(
+          on(shoulder + 0.04 * down + 0.05 * (std::cos(t) * u + std::sin(t) * w)));
     }
     CurveFeatures armhole{"shoulder", {loop}, {}};
     armhole.signs.push_back({"chest_front", on({0, 0.3, 0.14}), +1, -1});
@@ -146,8 +150,7 @@ TEST(Armhole, ALoweredArmPressedToTheTrunkLeavesTheTrunkTrunkAndTheSleeveSleeve)
   const ArmDownScene sc;
   const BodyFrame frame(sc.canonical());
   const MeshTopology topo(sc.shirt.F, sc.shirt.numVertices());
-  const std::vector<Opening> openings =
-      classifyOpenings(sc.shirt, topo, GarmentKind::Upper, frame);
+  const std::vector<Opening> openings = classifyOpenings(sc.shirt, topo, GarmentKind::Upper, frame);
   std::vector<std::string> names;
   for (const Opening& o : openings) names.push_back(o.name);
   std::sort(names.begin(), names.end());
@@ -203,6 +206,26 @@ TEST(Armhole, ALoweredArmPressedToTheTrunkLeavesTheTrunkTrunkAndTheSleeveSleeve)
   EXPECT_EQ(wrong(seams2[1], sleeve, -1), 0) << "of " << sleeve.size() << " sleeve vertices";
 }
 
+TEST(Armhole, AnArmHangingClearOfTheTrunkLeavesNoFoldUnderTheArmhole) {
+  // 40°: the arm hangs clear of the trunk, the shirt's armpit is a rounded concave corner: no
+  // stretch of the seam runs down a fold (the fused case: SeamContact's crease test).
+  const ArmDownScene sc{.angle = 40 * M_PI / 180};
+  const BodyFrame frame(sc.canonical());
+  const MeshTopology topo(sc.shirt.F, sc.shirt.numVertices());
+  const std::vector<Opening> openings = classifyOpenings(sc.shirt, topo, GarmentKind::Upper, frame);
+  const std::vector<SeamLine> seams =
+      estimateSeams(sc.shirt, GarmentKind::Upper, sc.bodyMesh, sc.features(), openings);
+  ASSERT_EQ(seams.size(), 2u);
+  ASSERT_TRUE(seams[1].kept) << seams[1].removedWhy;
+  double top = -std::numeric_limits<double>::infinity(), low = -top;
+  for (const SeamFold& f : armholeFolds(sc.shirt, seams[1]))
+    for (const Vec3& p : {f.a, f.b}) {
+      top = std::max(top, p.y());
+      low = std::min(low, p.y());
+    }
+  EXPECT_LT(std::max(0.0, top - low), SeamOptions{}.creaseReportDrop);
+}
+
 TEST(Armhole, LimbWeightsSumEachVertexsSkinningOverTheLimbsJoints) {
   // Joints: 0 pelvis, 1 chest, 2 left clavicle, 3 left shoulder, 4 left elbow, 5 neck, 6 head.
   BodyModel m;
@@ -211,8 +234,8 @@ TEST(Armhole, LimbWeightsSumEachVertexsSkinningOverTheLimbsJoints) {
   m.canonical[static_cast<int>(Canonical::LeftShoulder)].joint = 3;
   m.canonical[static_cast<int>(Canonical::Neck)].joint = 5;
   std::vector<Eigen::Triplet<double>> w{{0, 1, 0.7}, {0, 2, 0.2}, {0, 3, 0.1},  // chest, clavicle
-                                        {1, 3, 0.4}, {1, 4, 0.6},              // upper arm
-                                        {2, 6, 0.5}, {2, 0, 0.5}};             // head, pelvis
+                                        {1, 3, 0.4}, {1, 4, 0.6},               // upper arm
+                                        {2, 6, 0.5}, {2, 0, 0.5}};              // head, pelvis
   m.weights.resize(3, 7);
   m.weights.setFromTriplets(w.begin(), w.end());
   const Eigen::MatrixXd L = limbWeights(m);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "core/shapes.h"
 #include "pattern/body_frame.h"
 #include "pattern/seam_lines.h"
+#include "segment/isoline.h"
 
 namespace s2p {
 namespace {
@@ -232,6 +234,48 @@ TEST(SeamContact, ACuffTheScanJoinedToTheHemIsStillACuffAndTheSleeveIsFound) {
   ASSERT_GT(trunk, 100);
   EXPECT_LT(sleeveWrong, sleeve / 10) << "of " << sleeve << " sleeve vertices";
   EXPECT_EQ(trunkWrong, 0) << "of " << trunk << " trunk vertices";
+}
+
+// armholeFolds on a seam of known place: the shirt of SideBySide fused across a 6 mm gap (arm
+// and trunk offsets meet at ~110°, as a scan joins a sleeve to the side), cuff at y = 0.2.
+struct FoldLength {
+  double length = 0, top = -std::numeric_limits<double>::infinity(),
+         low = std::numeric_limits<double>::infinity();
+};
+FoldLength foldsOf(const TriMesh& shirt, const Eigen::VectorXd& phi) {
+  SeamLine seam;
+  seam.kind = SeamKind::Armhole;
+  seam.kept = true;
+  seam.phi = phi;
+  seam.line = extractIsoline(shirt, phi);
+  FoldLength out;
+  for (const SeamFold& f : armholeFolds(shirt, seam)) {
+    out.length += (f.b - f.a).norm();
+    for (const Vec3& p : {f.a, f.b}) {
+      out.top = std::max(out.top, p.y());
+      out.low = std::min(out.low, p.y());
+    }
+  }
+  return out;
+}
+
+TEST(SeamContact, ASeamAlongTheCreaseOfAFusedSleeveRunsOnAFoldOneAcrossTheSleeveDoesNot) {
+  const SideBySide sc{0.006, 0.02, -0.02, 0.2};
+  const TriMesh shirt = sc.shirt();
+  Eigen::VectorXd crease(shirt.numVertices()), across(shirt.numVertices());
+  for (int v = 0; v < shirt.numVertices(); ++v) {
+    const Vec3 p = shirt.V.row(v).transpose();
+    crease[v] = sc.arm(p) - sc.trunk(p);  // < 0 on the sleeve: zero along the crease
+    across[v] = 0.3 - p.y();              // a level cut round trunk and sleeve
+  }
+  // The crease runs from the top of the arm (y ≈ 0.45) down to the cuff (0.2), front and back.
+  const FoldLength c = foldsOf(shirt, crease);
+  EXPECT_GT(c.length, 0.4);
+  EXPECT_GT(c.top, 0.4);
+  EXPECT_LT(c.low, 0.22);
+  // A level seam crosses the crease but runs along no fold: at most the cloth at the crossings.
+  const FoldLength a = foldsOf(shirt, across);
+  EXPECT_LT(a.length, 2 * SeamOptions{}.creaseRadius);
 }
 
 TEST(SeamContact, AHemBesideAHangingForearmHoldsNoCuff) {

@@ -126,5 +126,28 @@ TEST(Panels, StridingTrousersGiveFourPanels_Slow) {
       }
 }
 
+// A long-sleeved shirt on arms hanging against the trunk (studio_relaxed): the scan joins each
+// sleeve to the side from the armpit to the wrist and the cuffs to the hem. With the cuffs' −1
+// as the sleeve's only hold, beside the hem's +1, the trunk's side of the armhole function
+// spread over the whole upper sleeve and each sleeve panel was a scrap at the wrist (6 % of the
+// shirt). The arm's sign points keep the sleeves whole: each one at least 12 % of the shirt.
+TEST(Panels, LongSleevesOnArmsHangingAgainstTheTrunkStaySleeves_Slow) {
+  const PatternRun r = patternOf(synthCase("studio_relaxed", 20000));
+  expectSound(r.score);
+  for (const GarmentPanels& g : r.panels.garments) {
+    if (g.kind != GarmentKind::Upper) continue;
+    double total = 0;
+    for (int p : g.panels) total += r.panels.panels[p].area;
+    int sleeves = 0;
+    for (int p : g.panels) {
+      const Panel& panel = r.panels.panels[p];
+      if (panel.name.find("sleeve") == std::string::npos) continue;
+      ++sleeves;
+      EXPECT_GT(panel.area, 0.12 * total) << panel.name << ": " << panel.area << " of " << total;
+    }
+    EXPECT_EQ(sleeves, 2);
+  }
+}
+
 }  // namespace
 }  // namespace s2p
