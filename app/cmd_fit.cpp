@@ -114,6 +114,7 @@ struct RunCommand {
   bool faithful = false;
   bool drape = true;         // the drape check after the pattern (--no-drape: skipped)
   int drapeSteps = -1;       // step budget of each drape phase; −1: DrapeOptions' defaults
+  double drapeCoarseEdgeMm = 1000 * DrapeStageOptions{}.coarseEdge;  // 0: one level only
   double remeshEdgeMm = 10;  // the panels' remeshing target edge
   PrintOptions print;
   PatternOptions pattern;
@@ -128,6 +129,7 @@ int runRun(const RunCommand& cmd, Progress& progress) {
   DrapeStageOptions drape;
   drape.enabled = cmd.drape;
   if (cmd.drapeSteps >= 0) drape.drape.sewMaxSteps = drape.drape.drapeMaxSteps = cmd.drapeSteps;
+  drape.coarseEdge = cmd.drapeCoarseEdgeMm / 1000;
   PatternOptions pattern = cmd.pattern;
   pattern.flat.remesh.targetEdgeLength = cmd.remeshEdgeMm / 1000;
   EarlyWriters early(cmd.fit.out, loaded, model);  // fit/ and segment/ written as they are done
@@ -374,6 +376,12 @@ void addFitCommands(CLI::App& app, Commands& out) {
                               "(default {} and {}); a drape that has not settled by then is "
                               "reported, not written",
                               DrapeOptions{}.sewMaxSteps, DrapeOptions{}.drapeMaxSteps))
+      ->check(CLI::NonNegativeNumber);
+  run->add_option("--drape-coarse-edge", r->drapeCoarseEdgeMm,
+                  "Edge (mm) of the coarse mesh the pattern is first sewn and draped on, before "
+                  "the drape is carried onto the pattern's own mesh and settled there; 0 sews "
+                  "and drapes at the pattern's resolution only (slower: minutes)")
+      ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   run->add_option("--remesh-edge", r->remeshEdgeMm,
                   "Target edge length (mm) of the panels' triangulation (panels.obj, the drape)")

@@ -32,6 +32,7 @@ struct PanelsCommand {
   bool armholeBodyParts = false;
   bool drape = false;   // also sew and drape the pattern (OUT/drape/, drape.json)
   int drapeSteps = -1;  // step budget of each drape phase; −1: DrapeOptions' defaults
+  double drapeCoarseEdgeMm = 1000 * DrapeStageOptions{}.coarseEdge;  // 0: one level only
   std::string out = "panels_out";
   LoadOptions load;
   PrintOptions print;
@@ -156,6 +157,7 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
     options.enabled = true;
     if (cmd.drapeSteps >= 0)
       options.drape.sewMaxSteps = options.drape.drapeMaxSteps = cmd.drapeSteps;
+    options.coarseEdge = cmd.drapeCoarseEdgeMm / 1000;
     run.drape = runDrapeStage(run.pattern, run.segmentation, body, options, &progress);
     progress.end();
     writeDrape(fs::path(cmd.out) / "drape", run);
@@ -203,6 +205,10 @@ void addPatternCommands(CLI::App& app, Commands& out) {
                 "segmented garments: OUT/drape/ (draped.obj, drape_compare.png, drape.json)");
   cmd->add_option("--drape-steps", c->drapeSteps,
                   "Step budget (1/60 s each) of each drape phase (see run --drape-steps)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--drape-coarse-edge", c->drapeCoarseEdgeMm,
+                  "Edge (mm) of the coarse mesh sewn first (see run --drape-coarse-edge)")
+      ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("-o,--out", c->out, "Output folder (default panels_out)");
   addLoadOptions(cmd, c->load);
