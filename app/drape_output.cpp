@@ -181,11 +181,11 @@ void writeCloth(const fs::path& file, const PipelineResult& run) {
     const Panel& p = run.pattern.panels.panels[d.panelOf[c]];
     names.push_back(p.garment + "_" + p.name);
   }
-  for (int f = 0, c = 0; f < r.garment.numFaces(); ++f) {
-    while (c + 2 < static_cast<int>(r.panelOffset.size()) && r.garment.F(f, 0) >= r.panelOffset[c + 1])
-      ++c;
-    group[f] = c;
-  }
+  for (int f = 0; f < r.garment.numFaces(); ++f)
+    group[f] = static_cast<int>(std::upper_bound(r.panelOffset.begin(), r.panelOffset.end(),
+                                                 r.garment.F(f, 0)) -
+                                r.panelOffset.begin()) -
+               1;
   MeshAttributes attrs;
   attrs.faceGroups = &group;
   attrs.groupNames = &names;
