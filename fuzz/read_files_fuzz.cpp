@@ -1,5 +1,6 @@
 // libFuzzer target for the files the program reads besides scans: bytes → temp file → the
-// reader named by S2P_FUZZ_READER (body_json, keypoints, npz, mpfb2_obj, mpfb2_target).
+// reader named by S2P_FUZZ_READER (body_json, keypoints, npz, mpfb2_obj, mpfb2_target,
+// garment_obj: the exact-index OBJ reader `panels` reads the segment's garments with).
 // Typed s2p::Error exceptions are the expected outcome for bad bytes; anything else (a crash,
 // a sanitizer report, another exception type such as a raw JSON library error) is a finding.
 #include <unistd.h>
@@ -17,6 +18,7 @@
 #include "body/smpl_model.h"
 #include "core/error.h"
 #include "fit/keypoints.h"
+#include "io/read_obj.h"
 
 namespace {
 
@@ -24,7 +26,7 @@ constexpr std::string_view kReader = S2P_FUZZ_READER;
 
 std::filesystem::path tempFile() {
   const char* ext = kReader == "npz"           ? ".npz"
-                    : kReader == "mpfb2_obj"    ? ".obj"
+                    : kReader == "mpfb2_obj" || kReader == "garment_obj" ? ".obj"
                     : kReader == "mpfb2_target" ? ".target"
                                                 : ".json";
   return std::filesystem::temp_directory_path() /
@@ -50,6 +52,8 @@ void read(const std::filesystem::path& file) {
     s2p::readMpfb2Obj(file);
   } else if (kReader == "mpfb2_target") {
     s2p::readMpfb2Target(file, 20000);
+  } else if (kReader == "garment_obj") {
+    s2p::readObjGeometry(file);
   }
 }
 

@@ -11,7 +11,10 @@
 // wherever the boundary spacing allows it, and so is the size bound: sample each edge with
 // boundarySampleCount points (spacing ≤ 0.7 × target; at spacing = target, triangles on the
 // boundary keep edges up to ~1.17 × target, whose refinement points would encroach) and keep
-// corner angles ≥ 2× the bound; minAngleDeg, badFaces and longestEdge say whether it was. With
+// corner angles ≥ 2× the bound. A face the mesher leaves below the bound (its circumcentre
+// encroaches: a short boundary segment beside long ones) is offered other interior points, the
+// best kept (repairBadFaces in remesh.cpp). minAngleDeg, badFaces and longestEdge say whether
+// the bound was reached. With
 // allowBoundarySteiner the ordinary Delaunay_mesher_2 also splits boundary segments (the bound is
 // then guaranteed for input angles ≥ 60°) and edgeVertices lists the inserted vertices too.
 #pragma once

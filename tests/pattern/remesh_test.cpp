@@ -163,6 +163,32 @@ TEST(Remesh, StitchedEdgesKeepTheirSampleCounts) {
   EXPECT_GE(std::min(left.minAngleDeg, right.minAngleDeg), 20.0);
 }
 
+TEST(Remesh, AShortJogBesideLongSamplesReachesTheAngleBoundWithoutTouchingTheBoundary) {
+  // Part of a flattened back panel's outline (a suite scan, mm): 7 mm samples up a side, then
+  // two corners 2.4 mm apart turning 72° and 96°. The face between the 2.4 mm segment and the
+  // next 7 mm one has a 19.5° angle, and the mesher's refinement point for it (its
+  // circumcentre) encroaches upon the boundary, so the mesher alone stops there.
+  const std::vector<Eigen::Vector2d> side = {
+      {1317.4, -447.2}, {1318.5, -440.3}, {1319.6, -433.4}, {1320.7, -426.5}, {1321.8, -419.6},
+      {1322.9, -412.8}, {1324.5, -406.4}, {1326.9, -406.2}, {1325.8, -399.3}, {1324.7, -392.5},
+      {1325.1, -385.5}, {1326.3, -378.6}, {1327.7, -371.8}, {1329.1, -364.9}, {1330.4, -358.1},
+      {1331.5, -351.2}, {1332.1, -344.2}};
+  Eigen::MatrixX2d jog(static_cast<int>(side.size()), 2);
+  for (size_t i = 0; i < side.size(); ++i) jog.row(static_cast<int>(i)) = 1e-3 * side[i];
+  const Eigen::Vector2d top = jog.row(jog.rows() - 1), bottom = jog.row(0);
+  const Eigen::Vector2d topLeft(top.x() - 0.1, top.y()), bottomLeft(top.x() - 0.1, bottom.y());
+  const std::vector<Eigen::MatrixX2d> edges = {jog, line(top, topLeft, 15),
+                                               line(topLeft, bottomLeft, 15),
+                                               line(bottomLeft, bottom, 13)};
+  const RemeshedPanel r = remeshPanel(edges, "jog");
+  std::cout << "2.4 mm jog beside 7 mm samples: min angle " << r.minAngleDeg << "°, "
+            << r.badFaces << " faces below the bound, " << r.V.rows() << " vertices\n";
+  expectBoundaryKept(r, edges);
+  EXPECT_EQ(r.badFaces, 0);
+  EXPECT_GE(r.minAngleDeg, 20.7);
+  EXPECT_LE(r.longestEdge, 0.01 * (1 + 1e-9));
+}
+
 TEST(Remesh, BoundarySteinerPointsAreReportedInOrder) {
   // A coarse outline (5 cm samples) with a 1 cm target: the ordinary mesher splits the
   // boundary; the inserted vertices appear in each edge's list, in order along it.
