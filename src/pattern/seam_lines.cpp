@@ -246,7 +246,7 @@ double windingAboutArm(const TriMesh& mesh, const std::vector<int>& run, const B
   };
   double winding = 0;
   for (size_t i = 0; i + 1 < run.size(); ++i) {
-    Vec3 d;
+    Vec3 d = Vec3::Zero();  // left zero (no turn counted) when no distance is finite
     const Vec3 a = across(mesh.V.row(run[i]).transpose(), d);
     const Vec3 b = across(mesh.V.row(run[i + 1]).transpose(), d);
     winding += std::atan2(a.cross(b).dot(d), a.dot(b));

@@ -228,7 +228,7 @@ TEST(Evaluation, MissingPredictedBoundaryIsReportedNotZero) {
   EXPECT_DOUBLE_EQ(e.label(Label::Lower)->iou, 0.0);
   EXPECT_NEAR(e.meanGarmentIoU, (0.3 / 0.5 + 0.0) / 2, 1e-9);  // upper 0.3 of 0.5, lower 0
   // A one-piece outfit (a dress over leggings, say): the garment mean is the upper IoU only.
-  c.truth.garments.push_back({"dress", "dress", Label::Upper, true, {}, 0.5});
+  c.truth.garments.push_back({"dress", "dress", Label::Upper, true, {}, 0.5, {}, {}});
   EXPECT_NEAR(c.run(pred).meanGarmentIoU, 0.3 / 0.5, 1e-9);
   const nlohmann::json j = evaluationToJson(e);
   EXPECT_TRUE(j["boundaries"][1]["missing"].get<bool>());

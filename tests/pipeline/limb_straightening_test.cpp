@@ -13,7 +13,7 @@ namespace s2p {
 namespace {
 
 const BodyModel& mannequin() {
-  static const BodyModel m = makeMannequin({.targetVertices = 4000});
+  static const BodyModel m = makeMannequin({.targetVertices = 4000, .base = {}});
   return m;
 }
 

@@ -131,8 +131,9 @@ TEST(Biharmonic, ThreeDisconnectedPiecesSolveEachOnItsOwn) {
   const int nc = cyl.numVertices();
   for (int v = 2 * nc; v < three.numVertices(); ++v) EXPECT_GT(phi[v], 0.5) << v;
   for (int v = 0; v < 2 * nc; ++v)
-    if (std::abs(three.V(v, 1) - (v < nc ? y0 : y1)) > 0.05)
+    if (std::abs(three.V(v, 1) - (v < nc ? y0 : y1)) > 0.05) {
       EXPECT_EQ(phi[v] > 0, three.V(v, 1) > (v < nc ? y0 : y1)) << v;
+    }
   c.back().value = -0.5;
   b.solve(c);
   EXPECT_TRUE(b.lastStats().refactored);

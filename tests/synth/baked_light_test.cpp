@@ -97,7 +97,9 @@ TEST(BakedLight, ChromaBlocksShareOneChromaAndKeepEachVertexsLightness) {
     const auto key = std::make_tuple(static_cast<int>(std::floor(m.V(v, 0) / side)),
                                      static_cast<int>(std::floor(m.V(v, 1) / side)));
     const auto [it, fresh] = chroma.try_emplace(key, after);
-    if (!fresh) EXPECT_LT((it->second - after).tail<2>().norm(), 1e-9) << v;
+    if (!fresh) {
+      EXPECT_LT((it->second - after).tail<2>().norm(), 1e-9) << v;
+    }
     if ((after - before).tail<2>().norm() > 1e-3) ++edgeBlocksMixed;
   }
   EXPECT_GT(edgeBlocksMixed, 0);  // the block on the colour edge mixed its two chromas

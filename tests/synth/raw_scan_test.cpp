@@ -67,8 +67,9 @@ TEST(RawScan, PhoneScanHasItsDefectsAndCleanUpUndoesThem) {
     if (s.vertexLabel[v] != static_cast<int>(Label::Other))
       personMinY = std::min(personMinY, m.V(v, 1));
   for (int f = 0; f < m.numFaces(); ++f)
-    if (s.faceLabel[f] == static_cast<int>(Label::Other))
+    if (s.faceLabel[f] == static_cast<int>(Label::Other)) {
       EXPECT_LT(m.V(m.F(f, 0), 1), personMinY - 0.003);
+    }
 
   // Clean-up as `run` does it: the charts weld into one piece, the floor patches are dropped,
   // nothing of the person is.

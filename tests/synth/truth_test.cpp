@@ -20,9 +20,9 @@ Truth sampleTruth() {
   t.seed = 12345678901234ULL;
   t.scanFile = "scan.ply";
   t.labelledMesh = "labels.ply";
-  t.garments.push_back({"t-shirt", "tshirt", Label::Upper, false, {"trousers"}, 0.61});
-  t.garments.push_back({"trousers", "trousers", Label::Lower, false, {}, 0.83});
-  t.garments.push_back({"dress", "dress", Label::Upper, true, {}, 0.0});
+  t.garments.push_back({"t-shirt", "tshirt", Label::Upper, false, {"trousers"}, 0.61, {}, {}});
+  t.garments.push_back({"trousers", "trousers", Label::Lower, false, {}, 0.83, {}, {}});
+  t.garments.push_back({"dress", "dress", Label::Upper, true, {}, 0.0, {}, {}});
   t.body = {{"source", "mannequin"}, {"canonical", {{"pelvis", {0.0, 0.95, 0.01}}}}};
   TrueBoundary waist;
   waist.a = Label::Upper;
