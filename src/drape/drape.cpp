@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -148,8 +147,6 @@ class ClothSim {
   std::vector<char> merged_;         // 1 once a sewn stitch's partners are one particle
   std::vector<char> nearOpen_;       // per weld representative: within sewContactRings of an
                                      // open stitch (no self-collision there)
-  std::vector<int> garmentOf_;       // per vertex: its garment (panels joined by stitches)
-  std::vector<char> garmentOpen_;    // per garment: a stitch of it is still open
   std::vector<int> part_;            // the particle each vertex is (itself until welded)
   std::vector<double> mass_;         // kg per particle (0: merged into another, or unreferenced)
   Eigen::MatrixX3i Fsim_;            // F_ on particles (what contacts are found against)
@@ -745,29 +742,8 @@ void ClothSim::limitStrain() {
   }
 }
 
-// Marks the garments with a stitch still open, and the cloth within sewContactRings edges (of
-// the welded graph) of an open stitch.
+// Marks the cloth within sewContactRings edges (of the welded graph) of an open stitch.
 void ClothSim::markNearOpenStitches() {
-  if (garmentOf_.empty()) {  // once: panels joined by a stitch are one garment
-    const std::vector<int>& offset = result_.panelOffset;
-    const int np = static_cast<int>(offset.size()) - 1;
-    const auto panelOf = [&](int v) {
-      return static_cast<int>(std::upper_bound(offset.begin(), offset.end(), v) -
-                              offset.begin()) - 1;
-    };
-    std::vector<int> root(static_cast<size_t>(np));
-    std::iota(root.begin(), root.end(), 0);
-    const std::function<int(int)> find = [&](int p) {
-      return root[p] == p ? p : root[p] = find(root[p]);
-    };
-    for (const auto& [a, b] : stitches_) root[find(panelOf(a))] = find(panelOf(b));
-    garmentOf_.resize(nv_);
-    for (int v = 0; v < nv_; ++v) garmentOf_[v] = find(panelOf(v));
-  }
-  garmentOpen_.assign(static_cast<size_t>(nv_), 0);  // garment ids are panel ids < nv_
-  for (size_t i = 0; i < stitches_.size(); ++i)
-    if (!sewn_[i]) garmentOpen_[garmentOf_[stitches_[i].first]] = 1;
-
   nearOpen_.assign(nv_, 0);
   if (o_.sewContactRings <= 0) return;
   std::vector<int> front, next;
@@ -837,11 +813,9 @@ void ClothSim::solveContacts() {
 }
 
 // Body: distance ≥ thickness along the SDF gradient, Coulomb friction on the tangential motion
-// of this substep. A garment with a stitch still open slides as while sewing (sewFriction): the
-// seam closes by the garment sliding over the body, and the drape's friction would hold it open.
-// Cloth near the open stitch alone was not enough: the demo's crotch closed so, but the crotches
-// of bag, skin_tone_top and jacket_layered stayed 22–32 mm open, held by the trousers' hips and
-// seat gripping the body; their whole trousers slide down until the crotch is sewn.
+// of this substep. Cloth near a stitch still open slides as while sewing (sewFriction): the seam
+// closes by sliding over the body, and the drape's friction would hold it open (the demo's
+// crotch stayed 21 mm open under the drape's 0.5).
 void ClothSim::solveBody(int v) {
   if (w_[v] == 0) return;
   const SdfSample s = sdf_->sample(x_[v]);
@@ -851,7 +825,7 @@ void ClothSim::solveBody(int v) {
   const Vector3d dx = x_[v] - xprev_[v];
   const Vector3d tangential = dx - dx.dot(s.normal) * s.normal;
   const double lt = tangential.norm();
-  const double mu = garmentOpen_[garmentOf_[v]] ? std::min(friction_, o_.sewFriction) : friction_;
+  const double mu = nearOpen_[weld_[v]] ? std::min(friction_, o_.sewFriction) : friction_;
   if (lt > 0) x_[v] -= tangential * std::min(mu * pen / lt, 1.0);
 }
 
