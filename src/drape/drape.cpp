@@ -150,6 +150,7 @@ class ClothSim {
   std::vector<int> part_;            // the particle each vertex is (itself until welded)
   std::vector<double> mass_;         // kg per particle (0: merged into another, or unreferenced)
   Eigen::MatrixX3i Fsim_;            // F_ on particles (what contacts are found against)
+  double maxStart_ = 1e-9;           // metres: the widest stitch's start gap
   double sewTime_ = 0;               // seconds of sewing so far (both phases)
   double dts_ = 0;
   long long solves_ = 0;
@@ -418,6 +419,7 @@ void ClothSim::build(const DrapeInput& input) {
   xprev_ = x_;
   xstep_ = x_;
   for (const auto& [a, b] : stitches_) stitchStart_.push_back((x_[a] - x_[b]).norm());
+  for (double g : stitchStart_) maxStart_ = std::max(maxStart_, g);
   sewn_.assign(stitches_.size(), 0);
   merged_.assign(stitches_.size(), 0);
   markNearOpenStitches();
@@ -673,12 +675,19 @@ void ClothSim::syncMerged() {
 }
 
 // Sewing (a seam is sewn once its partners meet, as in GarmentCode's and the commercial tools'
-// simulators). An open stitch holds its partners at most max(0, L0 − sewSpeed·t) apart (L0 their
-// start distance: seams close at sewSpeed), but pulls them by at most sewPull of its seam's edge
-// length per substep beyond where the cloth left them. A hard schedule alone runs ahead of a
-// cloth that has to be dragged (over a shoulder, around the body): the stitched row is then
-// torn from the next one (3× at 10 mm, where a substep's single sweep moves the cloth a
-// shorter way); bounded, the row leads the cloth by at most a fraction of an edge. A stitch
+// simulators). An open stitch holds its partners at most L0·max(0, 1 − sewSpeed·t / Lmax) apart
+// (L0 their start distance, Lmax the widest stitch's): every stitch arrives at the same time, as
+// under GarmentCode's zero-length stitch springs, whose pull is proportional to the gap. At one
+// speed for all, short seams closed first: a crotch's centre-front and centre-back seams (3 cm
+// apart at the start) were sewn long before the inseams (27 cm), and the two crotch points they
+// made then met under the body 2–3 cm apart in depth, the cloth between them at the strain limit
+// (bag, skin_tone_top, jacket_layered; 12–22 mm on the demo's coarse mesh). Arriving together,
+// the four corners meet where the inseams bring them. A stitch pulls its partners by at most
+// sewPull of its seam's edge length per substep beyond where the cloth left them. A hard
+// schedule alone runs ahead of a cloth that has to be dragged (over a shoulder, around the
+// body): the stitched row is then torn from the next one (3× at 10 mm, where a substep's single
+// sweep moves the cloth a shorter way); bounded, the row leads the cloth by at most a fraction
+// of an edge. A stitch
 // whose gap fell below sewTolerance is sewn: its partners become one particle (weldSewn).
 void ClothSim::solveStitches() {
   for (size_t i = 0; i < stitches_.size(); ++i) {
@@ -688,7 +697,8 @@ void ClothSim::solveStitches() {
     if (a == b || wsum <= 0) continue;
     const Vector3d d = x_[b] - x_[a];
     const double len = d.norm();
-    const double target = std::max(0.0, stitchStart_[i] - o_.sewSpeed * sewTime_);
+    const double target =
+        stitchStart_[i] * std::max(0.0, 1.0 - o_.sewSpeed * sewTime_ / maxStart_);
     if (len <= target) continue;
     const double pull = std::min(len - target, o_.sewPull * stitchEdge_[i]);
     const double s = pull / len / wsum;
@@ -1086,9 +1096,10 @@ void ClothSim::run(Progress* progress, const std::string& label) {
       } else {
         closedFor = -1;
         // Stalled: the last few seams close under gravity (GarmentCode's schedule turns gravity
-        // on after a fixed few frames); a crotch whose leg panels started across one another
-        // came free once the legs hung.
-        if (r.sewSteps - progressStep >= o_.sewStallSteps) break;
+        // on after a fixed few frames). Not while the targets still close: stitches arrive
+        // together, so none is sewn before the schedule ends.
+        const bool scheduled = o_.sewSpeed * sewTime_ < maxStart_;
+        if (!scheduled && r.sewSteps - progressStep >= o_.sewStallSteps) break;
       }
     }
   }

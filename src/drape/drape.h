@@ -9,8 +9,9 @@
 //   along the pattern's x (weft) and y (warp) directions and F·u·F·v for shear;
 // - bending: the isometric bending model (Bergou et al. 2006) around the flat rest state, a
 //   linear vector constraint per interior edge;
-// - sewing: partner vertices drawn together as the seam's limit shrinks from the start gap to 0
-//   at sewSpeed, by at most sewPull of an edge per substep beyond where the cloth left them (a
+// - sewing: partner vertices drawn together as the seam's limit shrinks from the start gap to 0,
+//   every stitch in proportion to its start gap so that all arrive together (the widest closes
+//   at sewSpeed), by at most sewPull of an edge per substep beyond where the cloth left them (a
 //   pull that never runs ahead of the cloth); once they meet they are one particle;
 // - body: signed distance ≥ thickness (BodySdf), Coulomb friction on the tangential motion;
 // - self-collision: vertex–triangle proximity (spatial hash, found again once a vertex has
@@ -68,7 +69,7 @@ struct DrapeOptions {
                                  // vertex has moved half of it (a Verlet list)
 
   // === Schedule (GarmentCode's): sew, then drape
-  double sewSpeed = 0.5;  // m/s: seams close at most this fast (from their start gap)
+  double sewSpeed = 0.5;  // m/s: the widest stitch closes this fast, the others in proportion
   double sewPull = 0.25;  // an open stitch pulls at most this fraction of its edge per substep
   double sewTolerance = 0.001;  // metres: the seams are closed when every gap is below it
   // Cloth within this many edges of an open stitch passes through other cloth (0: never). Where
@@ -77,7 +78,8 @@ struct DrapeOptions {
   // open for good; once a stitch is sewn its cloth collides again.
   int sewContactRings = 2;
   int sewMaxSteps = 600;    // step budget of the sewing phase
-  int sewStallSteps = 60;   // ... which ends early when no stitch was sewn in this many steps
+  int sewStallSteps = 60;   // ... which ends early when, the schedule run out, no stitch was
+                            // sewn in this many steps
   int sewSettleSteps = 10;  // steps sewing goes on once the seams are closed
   double restSpeed = 0.01;  // m/s: at rest when no vertex's net motion is faster than this
   int restSteps = 10;       // ... over a window of this many steps, two windows running
