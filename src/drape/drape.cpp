@@ -697,8 +697,7 @@ void ClothSim::solveStitches() {
     if (a == b || wsum <= 0) continue;
     const Vector3d d = x_[b] - x_[a];
     const double len = d.norm();
-    const double target =
-        stitchStart_[i] * std::max(0.0, 1.0 - o_.sewSpeed * sewTime_ / maxStart_);
+    const double target = stitchStart_[i] * std::max(0.0, 1.0 - o_.sewSpeed * sewTime_ / maxStart_);
     if (len <= target) continue;
     const double pull = std::min(len - target, o_.sewPull * stitchEdge_[i]);
     const double s = pull / len / wsum;
@@ -1079,9 +1078,9 @@ void ClothSim::run(Progress* progress, const std::string& label) {
     r.seamsClosed = true;
   } else {
     if (progress)
-      progress->begin(fmt::format("{}: sew {} stitch pairs ({} vertices)", label,
-                                  stitches_.size(), nv_),
-                      o_.sewMaxSteps);
+      progress->begin(
+          fmt::format("{}: sew {} stitch pairs ({} vertices)", label, stitches_.size(), nv_),
+          o_.sewMaxSteps);
     int closedFor = -1, lastOpen = static_cast<int>(stitches_.size()), progressStep = 0;
     while (r.sewSteps < o_.sewMaxSteps) {
       ++r.sewSteps;
