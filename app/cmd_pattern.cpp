@@ -147,10 +147,19 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   progress.end();
   if (cmd.drape) {
     // The drape compares with the garments as `segment` cut them (read above).
+    // Which garment was completed under the other (the drape's layers): garments.json, or for
+    // a folder written before it said so, boundaries.json's "occlusion".
+    std::string occlusion;
+    if (fs::exists(segDir / "boundaries.json"))
+      occlusion = readJsonFile(segDir / "boundaries.json", "boundaries").value("occlusion", "");
     for (const PanelsInput::Garment& g : in.garments) {
       GarmentPiece piece;
       piece.name = g.name;
       piece.mesh = g.mesh;
+      piece.occluded = occlusion == g.name + "_occluded";
+      for (const json& j : garments.at("garments"))
+        if (j.value("name", "") == g.name && j.contains("occluded"))
+          piece.occluded = j.at("occluded").get<bool>();
       run.segmentation.garments.push_back(std::move(piece));
     }
     DrapeStageOptions options;

@@ -230,6 +230,7 @@ void writeSegmentation(const fs::path& dir, const Scan& scan,
     writeObj(dir / (g.name + ".obj"), m, ga);
     garmentMaps.push_back({{"name", g.name},
                            {"file", g.name + ".obj"},
+                           {"occluded", g.occluded},
                            {"face_origin", std::vector<int>(g.faceOrigin.data(),
                                                             g.faceOrigin.data() + g.faceOrigin.size())}});
   }

@@ -17,6 +17,9 @@ struct ClothPanel {
   Eigen::MatrixX2d rest2d;  // #V×2, metres: the flat pattern (panels_flat.obj)
   Eigen::MatrixX3d start;   // #V×3, metres: initial placement around the body (panels.obj)
   Eigen::MatrixX3i F;       // #F×3 vertex indices (either orientation)
+  // Garments worn over others: a panel of a higher layer lies outside every panel of a lower
+  // one (a shirt worn over the trousers' waistband). Equal layers: no order is known.
+  int layer = 0;
 
   int numVertices() const { return static_cast<int>(rest2d.rows()); }
   int numFaces() const { return static_cast<int>(F.rows()); }

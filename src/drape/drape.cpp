@@ -60,9 +60,10 @@ struct LimitEdge {
 };
 
 struct Contact {
-  int v;        // vertex
-  int t;        // triangle (row of the garment's F)
-  double side;  // ±1: which side of the triangle the vertex was on when found
+  int v;                 // vertex
+  int t;                 // triangle (row of the garment's F)
+  double side;           // ±1: which side of the triangle the vertex was on when found
+  bool layered = false;  // between two layers: the side is their order, kept near open seams
 };
 
 // Greedy colouring of constraints (each a set of vertices) in their given order, so that no two
@@ -147,6 +148,11 @@ class ClothSim {
   std::vector<char> merged_;         // 1 once a sewn stitch's partners are one particle
   std::vector<char> nearOpen_;       // per weld representative: within sewContactRings of an
                                      // open stitch (no self-collision there)
+  std::vector<int> layer_;           // per vertex: its panel's layer (ClothPanel::layer)
+  std::vector<int> panelOfFace_;     // per face of F_
+  std::vector<double> outward_;      // per panel: +1 when its faces' normals point away from
+                                     // the body, −1 when towards it (the winding is free)
+  bool layered_ = false;             // panels of more than one layer
   std::vector<int> part_;            // the particle each vertex is (itself until welded)
   std::vector<double> mass_;         // kg per particle (0: merged into another, or unreferenced)
   Eigen::MatrixX3i Fsim_;            // F_ on particles (what contacts are found against)
@@ -161,6 +167,8 @@ class ClothSim {
 
   void build(const DrapeInput& input);
   void wrapSelfSewnPanels(const DrapeInput& input);
+  void separateLayers(const DrapeInput& input);
+  void orientPanels(const DrapeInput& input);
   bool wrapAroundLimb(int panel, const std::vector<std::pair<int, int>>& pairs);
   bool step(std::string& why);
   void substep();
@@ -207,6 +215,9 @@ void ClothSim::build(const DrapeInput& input) {
     }
     F_.middleRows(f0, panel.numFaces()) = panel.F.array() + off;
     f0 += panel.numFaces();
+    layer_.insert(layer_.end(), panel.numVertices(), panel.layer);
+    panelOfFace_.insert(panelOfFace_.end(), panel.numFaces(), static_cast<int>(p));
+    layered_ = layered_ || panel.layer != input.panels.front().layer;
   }
   xprev_ = x_;
   xstep_ = x_;
@@ -409,13 +420,17 @@ void ClothSim::build(const DrapeInput& input) {
           input.panels[p].name, inside, input.panels[p].numVertices()));
     result_.startInsideBody += inside;
   }
-  if (!o_.startsDraped) wrapSelfSewnPanels(input);
+  if (!o_.startsDraped) {
+    separateLayers(input);
+    wrapSelfSewnPanels(input);
+  }
   // Then every vertex closer than the thickness (as placed, or wrapped against the body where a
   // sleeve meets the torso) is moved out before the first step.
   for (int v = 0; v < nv_; ++v) {
     const SdfSample s = sdf_->sample(x_[v]);
     if (s.distance < o_.bodyThickness) x_[v] += (o_.bodyThickness - s.distance) * s.normal;
   }
+  orientPanels(input);
   xprev_ = x_;
   xstep_ = x_;
   for (const auto& [a, b] : stitches_) stitchStart_.push_back((x_[a] - x_[b]).norm());
@@ -423,6 +438,71 @@ void ClothSim::build(const DrapeInput& input) {
   sewn_.assign(stitches_.size(), 0);
   merged_.assign(stitches_.size(), 0);
   markNearOpenStitches();
+}
+
+// The outward normal of panel p as placed (flat: its faces' area vector, turned away from the
+// body's closest point to its centroid); zero for a panel too curved or too small to have one.
+namespace {
+Vector3d placedNormal(const std::vector<Vector3d>& x, const Eigen::MatrixX3i& F, int f0, int f1,
+                      const Vector3d& centroid, const BodySdf& sdf) {
+  Vector3d n = Vector3d::Zero();
+  for (int f = f0; f < f1; ++f) n += (x[F(f, 1)] - x[F(f, 0)]).cross(x[F(f, 2)] - x[F(f, 0)]);
+  if (n.norm() < 1e-12) return Vector3d::Zero();
+  n.normalize();
+  const Vector3d closest = sdf.query().closestPoint(centroid).point;
+  return (centroid - closest).dot(n) < 0 ? Vector3d(-n) : n;
+}
+}  // namespace
+
+// Panels of an outer layer that overlap a lower layer's panels in height start layerGap further
+// out along their normal (rigidly), so that each garment starts on its own side of the other.
+void ClothSim::separateLayers(const DrapeInput& input) {
+  if (!layered_ || !(o_.layerGap > 0)) return;
+  const int np = static_cast<int>(input.panels.size());
+  std::vector<double> lo(np, 1e30), hi(np, -1e30);
+  std::vector<Vector3d> centroid(np, Vector3d::Zero());
+  for (int p = 0; p < np; ++p) {
+    for (int v = result_.panelOffset[p]; v < result_.panelOffset[p + 1]; ++v) {
+      lo[p] = std::min(lo[p], x_[v].y()), hi[p] = std::max(hi[p], x_[v].y());
+      centroid[p] += x_[v];
+    }
+    centroid[p] /= std::max(1, input.panels[p].numVertices());
+  }
+  int f0 = 0;
+  for (int p = 0; p < np; ++p) {
+    const int f1 = f0 + input.panels[p].numFaces();
+    bool over = false;
+    for (int q = 0; q < np && !over; ++q)
+      over = input.panels[q].layer < input.panels[p].layer && lo[p] < hi[q] && lo[q] < hi[p];
+    if (over) {
+      const Vector3d n = placedNormal(x_, F_, f0, f1, centroid[p], *sdf_);
+      for (int v = result_.panelOffset[p]; v < result_.panelOffset[p + 1]; ++v)
+        x_[v] += o_.layerGap * input.panels[p].layer * n;
+    }
+    f0 = f1;
+  }
+}
+
+// Which way each panel's faces face: the sign of Σ n_f·(c_f − closest body point) over a sample
+// of its faces as they start. A panel keeps its side of the body while it drapes, so the sign
+// holds; contacts between layers use it to tell outside from inside.
+void ClothSim::orientPanels(const DrapeInput& input) {
+  const int np = static_cast<int>(input.panels.size());
+  outward_.assign(np, 1.0);
+  if (!layered_) return;
+  int f0 = 0;
+  for (int p = 0; p < np; ++p) {
+    const int nf = input.panels[p].numFaces(), stride = std::max(1, nf / 64);
+    double sum = 0;
+    for (int f = f0; f < f0 + nf; f += stride) {
+      const Vector3d &a = x_[F_(f, 0)], &b = x_[F_(f, 1)], &c = x_[F_(f, 2)];
+      const Vector3d centroid = (a + b + c) / 3;
+      const Vector3d away = centroid - sdf_->query().closestPoint(centroid).point;
+      sum += (b - a).cross(c - a).normalized().dot(away.normalized());
+    }
+    outward_[p] = sum < 0 ? -1.0 : 1.0;
+    f0 += nf;
+  }
 }
 
 // A panel sewn to itself across its width (a one-piece sleeve's underarm seam, a trouser leg's
@@ -787,8 +867,8 @@ int ClothSim::sewClosedStitches() {
 void ClothSim::solveContacts() {
   const double h = o_.selfThickness;
   for (const Contact& c : contacts_) {
-    if (nearOpen_[weld_[c.v]] || nearOpen_[weld_[F_(c.t, 0)]] || nearOpen_[weld_[F_(c.t, 1)]] ||
-        nearOpen_[weld_[F_(c.t, 2)]])
+    if (!c.layered && (nearOpen_[weld_[c.v]] || nearOpen_[weld_[F_(c.t, 0)]] ||
+                       nearOpen_[weld_[F_(c.t, 1)]] || nearOpen_[weld_[F_(c.t, 2)]]))
       continue;
     const int i0 = Fsim_(c.t, 0), i1 = Fsim_(c.t, 1), i2 = Fsim_(c.t, 2);
     const Vector3d &a = x_[i0], &b = x_[i1], &cc = x_[i2], &p = x_[c.v];
@@ -921,7 +1001,12 @@ void ClothSim::findContacts() {
               for (int q = adjStart_[rv]; q < adjStart_[rv + 1] && !near; ++q)
                 near = adj_[q] == r[0] || adj_[q] == r[1] || adj_[q] == r[2];
               if (near) continue;
-              out.push_back({v, f, d >= 0 ? 1.0 : -1.0});
+              const int lt = layer_[t[0]];  // the triangle's layer (one panel's)
+              if (layered_ && layer_[v] != lt)
+                out.push_back(
+                    {v, f, (layer_[v] > lt ? 1.0 : -1.0) * outward_[panelOfFace_[f]], true});
+              else
+                out.push_back({v, f, d >= 0 ? 1.0 : -1.0});
             }
           }
     }

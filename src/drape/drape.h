@@ -15,7 +15,9 @@
 //   pull that never runs ahead of the cloth); once they meet they are one particle;
 // - body: signed distance ≥ thickness (BodySdf), Coulomb friction on the tangential motion;
 // - self-collision: vertex–triangle proximity (spatial hash, found again once a vertex has
-//   moved half the search's skin, side kept from the search), thickness selfThickness;
+//   moved half the search's skin, side kept from the search), thickness selfThickness; between
+//   panels of different layers (ClothPanel::layer) the side is the layers' order instead: the
+//   outer garment's cloth is kept outside the inner one's, wherever the two are found;
 // - strain limiting: no edge ends a substep longer than strainLimit × its pattern length.
 // Deterministic: constraints are graph-coloured once (greedy, fixed order) and each colour is
 // solved in parallel on disjoint vertices; contacts are solved in a fixed order; so the result
@@ -61,12 +63,16 @@ struct DrapeOptions {
   // fabric_friction. At 0.3 plus_size's trousers slid 36 cm down over the hips and piled up at
   // the feet, still creeping after 300 fine steps; at 0.5 they hang from the hips and settle.
   double friction = 0.5;
-  double sewFriction = 0.0;       // ... while sewing: the panels slide into place over the body
-  double sdfVoxel = 0.004;        // metres, body SDF grid
+  double sewFriction = 0.0;  // ... while sewing: the panels slide into place over the body
+  double sdfVoxel = 0.004;   // metres, body SDF grid
   bool selfCollision = true;
   double selfThickness = 0.003;  // metres between two layers of cloth
   double selfSkin = 0.005;       // metres searched beyond selfThickness; searched again once a
                                  // vertex has moved half of it (a Verlet list)
+  // Metres an outer layer's panel starts further out than placed, where it overlaps (in height)
+  // a panel of a lower layer: the flat panels of both garments are placed at one clearance, so
+  // a shirt's hem and the trousers' waistband start through one another.
+  double layerGap = 0.015;
 
   // === Schedule (GarmentCode's): sew, then drape
   double sewSpeed = 0.5;  // m/s: the widest stitch closes this fast, the others in proportion

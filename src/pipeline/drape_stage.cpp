@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 
@@ -90,6 +91,21 @@ DrapeInput coarseDrapeInput(const PatternResult& pattern, const std::vector<int>
   return in;
 }
 
+// Layers from the segmentation: a garment whose hidden part was completed (§5.3) lies under the
+// garment that hid it, so its panels are the inner layer (0) and the others the outer (1). With
+// no garment completed nothing says which is on top, and all panels share one layer.
+void assignLayers(DrapeInput& in, const PatternResult& pattern, const std::vector<int>& panelOf,
+                  const Segmentation& segmentation) {
+  std::vector<std::string> under;
+  for (const GarmentPiece& piece : segmentation.garments)
+    if (piece.occluded) under.push_back(piece.name);
+  if (under.empty()) return;
+  for (size_t c = 0; c < in.panels.size() && c < panelOf.size(); ++c) {
+    const std::string& g = pattern.panels.panels[panelOf[c]].garment;
+    in.panels[c].layer = std::find(under.begin(), under.end(), g) == under.end() ? 1 : 0;
+  }
+}
+
 Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& body,
                              const Placement& placement) {
   if (!body.model) throw InputError("drape: the fitted body has no model to unpose the garments");
@@ -118,7 +134,8 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
     out.warnings.push_back("drape: skipped, the pattern was not placed around a rest body");
     return out;
   }
-  const DrapeInput in = drapeInput(pattern, &out.panelOf);
+  DrapeInput in = drapeInput(pattern, &out.panelOf);
+  assignLayers(in, pattern, out.panelOf, segmentation);
   if (in.panels.empty()) {
     out.warnings.push_back("drape: skipped, no panel was flattened and placed");
     return out;
@@ -128,6 +145,7 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
   std::string why;
   if (options.coarseEdge > 0)
     coarse = coarseDrapeInput(pattern, out.panelOf, options.coarseEdge, &why);
+  assignLayers(coarse, pattern, out.panelOf, segmentation);
   int fineVertices = 0;
   for (const ClothPanel& p : in.panels) fineVertices += p.numVertices();
   for (const ClothPanel& p : coarse.panels) out.coarseVertices += p.numVertices();
@@ -135,8 +153,7 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
     out.warnings.push_back(
         fmt::format("drape: sewn at the pattern's own resolution only ({})", why));
   if (!coarse.panels.empty() && 2 * out.coarseVertices < fineVertices) {
-    out.twoLevel =
-        runDrapeCoarseToFine(in, coarse, options.drape, options.coarseToFine, progress);
+    out.twoLevel = runDrapeCoarseToFine(in, coarse, options.drape, options.coarseToFine, progress);
     out.drape = std::move(out.twoLevel.fine);
     out.twoLevel.fine = DrapeResult{};
     out.coarseToFine = true;

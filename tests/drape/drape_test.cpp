@@ -169,6 +169,57 @@ TEST(Drape, ASheetDroppedOnASphereRestsOnItWithoutPenetration_Slow) {
             << " mm, centre at " << r.garment.V(centre, 1) << ", " << r.seconds << " s\n";
 }
 
+// A shirt worn over trousers: two sewn tubes overlapping by half their height, the outer one
+// (layer 1, 10 % wider) placed just inside the inner one (layer 0), as the flat panels of a
+// shirt's hem and a trousers' waistband start through one another. The layers' order must put
+// the outer tube outside the inner one where they overlap, with no triangle through another.
+// Given one layer, the two tubes sew through each other (100 crossing pairs).
+DrapeInput shirtOverTrousers(bool layered) {
+  DrapeInput in = makeTubeGarment(0.30, 0.2, 0.015, 0.10, 0.06);  // y in [0.1, 0.3]
+  DrapeInput outer = makeTubeGarment(0.33, 0.2, 0.015, 0.095, 0.06);
+  for (ClothPanel& p : outer.panels) {
+    p.start.col(1).array() += 0.1;  // y in [0.2, 0.4]
+    p.name = "outer_" + p.name;
+    p.layer = layered ? 1 : 0;
+  }
+  const int base = static_cast<int>(in.panels.size());
+  for (ClothStitch s : outer.stitches) {
+    s.panelA += base, s.panelB += base;
+    in.stitches.push_back(s);
+  }
+  in.panels.insert(in.panels.end(), outer.panels.begin(), outer.panels.end());
+  in.body = makeClosedCylinder(0.06, 0.0, 0.5, 25, 38);
+  return in;
+}
+
+TEST(Drape, AnOuterLayerStaysOutsideTheInnerOneWhereTheyOverlap_Slow) {
+  DrapeOptions o;
+  o.gravity.setZero();
+  o.drapeMaxSteps = 120;
+  const DrapeResult r = runDrape(shirtOverTrousers(true), o);
+  ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
+  EXPECT_TRUE(r.seamsClosed);
+  EXPECT_EQ(r.selfIntersections, 0);
+  // Mean distance from the body's axis over the overlap band, each tube.
+  auto radius = [&](int p0) {
+    double sum = 0;
+    int n = 0;
+    for (int p = p0; p < p0 + 2; ++p)
+      for (Eigen::Index v = 0; v < r.panels[p].rows(); ++v) {
+        const Vector3d x = r.panels[p].row(v);
+        if (x.y() < 0.22 || x.y() > 0.28) continue;
+        sum += std::hypot(x.x(), x.z()), ++n;
+      }
+    return n ? sum / n : 0.0;
+  };
+  const double inner = radius(0), outer = radius(2);
+  EXPECT_GT(outer, inner + o.selfThickness) << "inner " << inner << " m, outer " << outer << " m";
+  const DrapeResult one = runDrape(shirtOverTrousers(false), o);
+  std::cout << "layers: inner tube " << 1e3 * inner << " mm, outer " << 1e3 * outer
+            << " mm from the axis, " << r.selfIntersections
+            << " crossing pairs; one layer: " << one.selfIntersections << " crossing pairs\n";
+}
+
 TEST(Drape, SewnSeamPartnersEndWithinAMillimetreAfterDrapingUnderGravity_Slow) {
   const DrapeInput in = makeShirtGarment(0.02);
   const DrapeResult r = runDrape(in, {});
