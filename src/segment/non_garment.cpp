@@ -44,7 +44,8 @@ double nearestComponent(const GaussianMixture& g, const Vec3& lab) {
 }  // namespace
 
 HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, const Vec3& axis,
-                            double garmentLevel, const HeldObjectOptions& options, double ceiling) {
+                            double garmentLevel, const HeldObjectOptions& options, double ceiling,
+                            double floor) {
   const int nV = mesh.numVertices();
   if (offset.size() != nV)
     throw InputError(fmt::format("findHeldObjects: {} offsets for {} vertices", offset.size(), nV));
@@ -71,6 +72,10 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
     if (m.empty() || a < options.minSeedArea) continue;
     if (std::any_of(m.begin(), m.end(), [&](int v) { return mesh.V(v, 1) > ceiling; })) {
       ++out.headSeeds;
+      continue;
+    }
+    if (std::any_of(m.begin(), m.end(), [&](int v) { return mesh.V(v, 1) < floor; })) {
+      ++out.footSeeds;
       continue;
     }
     for (int v : m) objectOf[v] = candidates;

@@ -56,18 +56,22 @@ struct HeldObjects {
   std::vector<HeldObject> objects;
   int rejectedSeeds = 0;  // grown seeds spanning more than maxSpan (free-hanging garments)
   int headSeeds = 0;      // seeds reaching above the ceiling (hair)
+  int footSeeds = 0;      // seeds reaching below the floor (shoes)
 };
 
 // Held objects on `mesh` (the scan, or a part of it): offset #V (m, off the body under the
 // clothes, smoothed over the scanner's noise), `axis` a point on the body's vertical axis (the
 // span of a seed is measured around it in the horizontal plane), `garmentLevel` the garments'
 // median offset (m). A seed reaching above `ceiling` (m, the chin: the lowest of the face's
-// region points) is the head's own volume — hair, a hat — not a held object. Throws InputError
-// for an offset of the wrong size.
+// region points) is the head's own volume — hair, a hat — not a held object; one reaching below
+// `floor` (m, the top of the feet's region points) is the feet's — a shoe's heel where the fit's
+// foot is short (tall_slim: heels 5 cm off a foot fitted 5 cm short, taken for a held object).
+// Throws InputError for an offset of the wrong size.
 HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset,
                             const Eigen::Vector3d& axis, double garmentLevel,
                             const HeldObjectOptions& options = {},
-                            double ceiling = std::numeric_limits<double>::infinity());
+                            double ceiling = std::numeric_limits<double>::infinity(),
+                            double floor = -std::numeric_limits<double>::infinity());
 
 // === Hair
 

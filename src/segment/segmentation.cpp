@@ -1285,8 +1285,10 @@ class Segmenter {
       if (std::isfinite(regionOffset_[r])) level = std::max(level, regionOffset_[r]);
     double chin = std::numeric_limits<double>::infinity();
     for (const Vec3& p : facePoints()) chin = std::min(chin, p.y());
-    const HeldObjects held =
-        findHeldObjects(current.mesh, current.smoothOffset, axis, level, options_.held, chin);
+    double floor = -std::numeric_limits<double>::infinity();
+    for (const Vec3& p : footPoints_) floor = std::max(floor, p.y());
+    const HeldObjects held = findHeldObjects(current.mesh, current.smoothOffset, axis, level,
+                                             options_.held, chin, floor);
     if (held.rejectedSeeds > 0)
       out.notes.push_back(fmt::format(
           "{} part(s) of the scan more than {:.0f} mm off the body hang all around it (more than "

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "body/level_set_mesh.h"
 #include "core/colour.h"
@@ -115,6 +116,19 @@ TEST(HeldObjects, AVolumeReachingTheHeadIsHairNotAnObject) {
   EXPECT_TRUE(h.objects.empty());
   EXPECT_EQ(h.headSeeds, 1);
   EXPECT_EQ(findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase, {}, 1.1).objects.size(), 1u);
+}
+
+TEST(HeldObjects, AVolumeReachingTheFeetIsAShoeNotAnObject) {
+  // The box lowered to the bottom of the trunk, as a shoe's heel stands off a foot fitted short:
+  // it reaches below the top of the feet's region points (floor).
+  const Vec3 lo(0.13, 0.2, -0.05), hi(0.235, 0.4, 0.05);
+  const Clothed c = clothed([&](const Vec3& p) { return boxDistance(p, lo, hi); });
+  const double inf = std::numeric_limits<double>::infinity();
+  const HeldObjects h = findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase, {}, inf, 0.3);
+  EXPECT_TRUE(h.objects.empty());
+  EXPECT_EQ(h.footSeeds, 1);
+  EXPECT_EQ(
+      findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase, {}, inf, 0.1).objects.size(), 1u);
 }
 
 TEST(HeldObjects, WrongOffsetSizeIsAnInputError) {
