@@ -17,7 +17,7 @@
 // - self-collision: vertex–triangle proximity (spatial hash, found again once a vertex has
 //   moved half the search's skin, side kept from the search), thickness selfThickness; between
 //   panels of different layers (ClothPanel::layer) the side is the layers' order instead: the
-//   outer garment's cloth is kept outside the inner one's, wherever the two are found;
+//   outer garment's cloth is kept outside the inner one's (near an open stitch neither acts);
 // - strain limiting: no edge ends a substep longer than strainLimit × its pattern length.
 // Deterministic: constraints are graph-coloured once (greedy, fixed order) and each colour is
 // solved in parallel on disjoint vertices; contacts are solved in a fixed order; so the result
