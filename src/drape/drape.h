@@ -57,8 +57,8 @@ struct DrapeOptions {
   // × pattern length: no edge ends a substep longer (0: off). Woven cloth barely stretches: the
   // ±5 % of pattern software. At 1.1 a waistband could stretch over hips 9 % wider than it
   // (plus_size: waistband 1.086 m round, hips 1.186 m), and its trousers slid 11 cm when gravity
-  // came on (lower garment 20.4 / 82.9 mm from the scan; 16.8 / 66.4 at 1.05, the other 21
-  // presets within ±1.7 mm p95 of their figures at 1.1, the spread of two runs of one setting).
+  // came on (lower garment 20.4 / 82.9 mm from the scan; 16.8 / 66.4 at 1.05; the other 21
+  // presets' p95 within 1.7 mm of their figures at 1.1, bench/RESULTS.md).
   double strainLimit = 1.05;
   int strainLimitPasses = 8;  // Gauss–Seidel passes over the overstretched edges per substep
 
