@@ -767,8 +767,8 @@ void ClothSim::syncMerged() {
 // schedule alone runs ahead of a cloth that has to be dragged (over a shoulder, around the
 // body): the stitched row is then torn from the next one (3× at 10 mm, where a substep's single
 // sweep moves the cloth a shorter way); bounded, the row leads the cloth by at most a fraction
-// of an edge. A stitch
-// whose gap fell below sewTolerance is sewn: its partners become one particle (weldSewn).
+// of an edge. A stitch whose gap fell below sewTolerance is sewn: its partners become one
+// particle (weldSewn).
 void ClothSim::solveStitches() {
   for (size_t i = 0; i < stitches_.size(); ++i) {
     if (merged_[i]) continue;

@@ -94,6 +94,7 @@ DrapeInput coarseDrapeInput(const PatternResult& pattern, const std::vector<int>
 // Layers from the segmentation: a garment whose hidden part was completed (§5.3) lies under the
 // garment that hid it, so its panels are the inner layer (0) and the others the outer (1). With
 // no garment completed nothing says which is on top, and all panels share one layer.
+namespace {
 void assignLayers(DrapeInput& in, const PatternResult& pattern, const std::vector<int>& panelOf,
                   const Segmentation& segmentation) {
   std::vector<std::string> under;
@@ -105,6 +106,7 @@ void assignLayers(DrapeInput& in, const PatternResult& pattern, const std::vecto
     in.panels[c].layer = std::find(under.begin(), under.end(), g) == under.end() ? 1 : 0;
   }
 }
+}  // namespace
 
 Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& body,
                              const Placement& placement) {
