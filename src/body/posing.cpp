@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -536,10 +537,10 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> closestPointWeights(const BodyModel
 
 namespace {
 
-// Arms straight in the frontal plane `down` radians below horizontal; the legs turned out by
-// kDrapeLegSpread when `drapeLegs`; everything else at rest.
-BodyPose straightLimbsPose(const BodyModel& model, const Eigen::VectorXd& shape, double down,
-                           bool drapeLegs) {
+// Arms straight in the frontal plane, the left `downLeft`, the right `downRight` radians below
+// horizontal; the legs turned out by kDrapeLegSpread when `drapeLegs`; everything else at rest.
+BodyPose straightLimbsPose(const BodyModel& model, const Eigen::VectorXd& shape, double downLeft,
+                           double downRight, bool drapeLegs) {
   BodyPose pose = BodyPose::zero(model.numJoints());
   const Eigen::MatrixX3d J = restJoints(model, shape);
   auto jointOf = [&](Canonical c) {
@@ -563,6 +564,7 @@ BodyPose straightLimbsPose(const BodyModel& model, const Eigen::VectorXd& shape,
   std::vector<Limb> limbs;
   for (const double s : {side, -side}) {
     const bool left = s > 0;
+    const double down = left ? downLeft : downRight;
     limbs.push_back({left ? Canonical::LeftShoulder : Canonical::RightShoulder,
                      left ? Canonical::LeftElbow : Canonical::RightElbow,
                      left ? Canonical::LeftWrist : Canonical::RightWrist,
@@ -597,12 +599,32 @@ BodyPose straightLimbsPose(const BodyModel& model, const Eigen::VectorXd& shape,
 
 BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which) {
   if (which == StandardPose::Rest) return BodyPose::zero(model.numJoints());
-  return straightLimbsPose(model, shape, which == StandardPose::TPose ? 0.0 : std::numbers::pi / 4,
-                           which == StandardPose::DrapePose);
+  const double down = which == StandardPose::TPose ? 0.0 : kDrapeArmDown;
+  return straightLimbsPose(model, shape, down, down, which == StandardPose::DrapePose);
+}
+
+double armAngleBelowHorizontal(const PosedBody& body, bool left) {
+  auto at = [&](Canonical c) -> Eigen::Vector3d {
+    return body.canonical.row(static_cast<int>(c)).transpose();
+  };
+  const Eigen::Vector3d up = at(Canonical::Neck) - at(Canonical::Pelvis);
+  const Eigen::Vector3d arm = left ? at(Canonical::LeftElbow) - at(Canonical::LeftShoulder)
+                                   : at(Canonical::RightElbow) - at(Canonical::RightShoulder);
+  if (up.norm() < 1e-9 || arm.norm() < 1e-9) return kDrapeArmDown;
+  return std::asin(std::clamp(-arm.normalized().dot(up.normalized()), -1.0, 1.0));
+}
+
+DrapePoseChoice drapePoseFor(const BodyModel& model, const Eigen::VectorXd& shape,
+                             const PosedBody& fitted) {
+  DrapePoseChoice out;
+  out.downLeft = std::clamp(armAngleBelowHorizontal(fitted, true), 0.0, kDrapeArmDown);
+  out.downRight = std::clamp(armAngleBelowHorizontal(fitted, false), 0.0, kDrapeArmDown);
+  out.pose = straightLimbsPose(model, shape, out.downLeft, out.downRight, true);
+  return out;
 }
 
 BodyPose armsDownPose(const BodyModel& model, const Eigen::VectorXd& shape, double down) {
-  return straightLimbsPose(model, shape, down, false);
+  return straightLimbsPose(model, shape, down, down, false);
 }
 
 // === Pose JSON

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <filesystem>
+#include <numbers>
 #include <vector>
 
 #include "body/body_model.h"
@@ -109,6 +110,24 @@ inline constexpr double kDrapeLegSpread = 0.14;  // rad, 8°: the ankles ~0.25 m
 // the canonical shoulder, elbow and wrist joints of the shaped model, so it works whatever the
 // source's rest pose is.
 BodyPose standardPose(const BodyModel& model, const Eigen::VectorXd& shape, StandardPose which);
+inline constexpr double kDrapeArmDown = std::numbers::pi / 4;  // rad: the A-pose's arms, 45°
+
+// The angle of a posed body's upper arm (shoulder → elbow) below the horizontal, measured
+// against the body's own up (pelvis → neck): 0 for a T-pose, π/4 for the A-pose, negative
+// for an arm raised above the shoulder.
+double armAngleBelowHorizontal(const PosedBody& body, bool left);
+
+// The pose a pattern is placed, sewn and draped around for a scan fitted with `fitted`: the
+// drape pose, except that an arm scanned higher than its 45° is raised to the scanned angle
+// (not above horizontal). A garment scanned with the arms raised has its armpit where the raised
+// arm put it, high up the side; sewn around arms 45° down, the tops of its side seams are placed
+// inside the arms and the armpit junction cannot close (tpose: 42 stitch pairs open, 51 mm).
+struct DrapePoseChoice {
+  BodyPose pose;
+  double downLeft = kDrapeArmDown, downRight = kDrapeArmDown;  // rad below horizontal
+};
+DrapePoseChoice drapePoseFor(const BodyModel& model, const Eigen::VectorXd& shape,
+                             const PosedBody& fitted);
 
 // A relaxed stance's arms (issue 17): straight in the frontal plane, `down` radians below
 // horizontal (default 80°: the arms hang along the sides, the hands by the thighs); the rest of

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <set>
 
 #include "body/posing.h"
@@ -185,10 +186,16 @@ Placement placePanels(const PanelsResult& panels, const FlatPatternResult& flat,
       input.full.numVertices() == model.numVertices()
           ? unposeSkinned(fitted, model.weights, input.full.V)
           : shapedTemplate(model, shape);
-  const PosedBody drape =
-      poseBody(model, {shape, standardPose(model, shape, StandardPose::DrapePose)});
-
   Placement out;
+  const DrapePoseChoice choice = drapePoseFor(model, shape, fitted);
+  out.drapePose = choice.pose;
+  out.pose = fmt::format(
+      "drape pose: arms {:.0f}° (left) and {:.0f}° (right) below horizontal ({:.0f}° unless the "
+      "scan raised them higher), legs 8° apart, knees and elbows straight",
+      choice.downLeft * 180 / std::numbers::pi, choice.downRight * 180 / std::numbers::pi,
+      kDrapeArmDown * 180 / std::numbers::pi);
+  const PosedBody drape = poseBody(model, {shape, out.drapePose});
+
   const Eigen::Vector3d pelvis = drape.canonical.row(static_cast<int>(Canonical::Pelvis)).transpose();
   Eigen::MatrixX3d bodyV = poseSkinned(drape, model.weights, restShape);
   // GarmentCode's frame: the feet on y = 0, the pelvis above the origin.

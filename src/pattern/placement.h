@@ -61,7 +61,8 @@ struct PlacedPanel {
 };
 
 struct Placement {
-  std::string pose = "drape pose: A-pose arms 45° down, legs 8° apart, knees and elbows straight";
+  std::string pose;      // the drape pose, described (placePanels)
+  BodyPose drapePose;    // the fitted shape's pose the pattern is placed around (drapePoseFor)
   TriMesh restBody;      // the body in the drape pose, rest frame
   // The body fitted under the clothes (fitted shape, drape pose, none of the full fit's detail)
   // in the same frame: what the pattern is sewn and draped on. restBody follows the scanned

@@ -114,8 +114,9 @@ Eigen::MatrixX3d toDrapePose(const Eigen::MatrixX3d& P, const PosedFeatures& bod
   const BodyModel& model = *body.model;
   const PosedBody fitted = poseBody(model, body.params);
   const Eigen::VectorXd& shape = body.params.shape;
-  const PosedBody drape =
-      poseBody(model, {shape, standardPose(model, shape, StandardPose::DrapePose)});
+  if (placement.drapePose.axisAngle.rows() != model.numJoints())
+    throw InputError("drape: the placement carries no drape pose for this body model");
+  const PosedBody drape = poseBody(model, {shape, placement.drapePose});
   // Placement's shift into the rest frame (feet on y = 0, pelvis above the origin).
   const Eigen::RowVector3d shift = placement.canonical.row(0) - drape.canonical.row(0);
   // Garment frame → the parameters' frame, where the fitted body is posed.

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "body/mannequin.h"
 #include "core/error.h"
 #include "core/shapes.h"
 #include "test_support.h"
@@ -383,6 +384,45 @@ TEST(Posing, StandardPosesPutArmsHorizontalOrAt45Degrees) {
     EXPECT_TRUE(p.pose.axisAngle.row(0).isZero(0.0));
     EXPECT_TRUE(p.pose.axisAngle.row(8).isZero(0.0));
   }
+}
+
+// The drape pose keeps the A-pose's 45° unless the scan held an arm higher; then that arm is
+// raised to the scanned angle, never above horizontal. Each arm on its own. (The mannequin: the
+// drape pose needs legs.)
+TEST(Posing, DrapePoseRaisesOnlyTheArmsScannedHigherThanTheAPose) {
+  const BodyModel m = makeMannequin();
+  const Eigen::VectorXd shape = Eigen::VectorXd::Zero(m.numShapes());
+  auto posed = [&](const BodyPose& pose) { return poseBody(m, {shape, pose}); };
+  auto joint = [&](Canonical c) { return m.canonical[static_cast<int>(c)].joint; };
+  // Left arm 20° below horizontal, right arm hanging 80° down.
+  BodyPose scanned = armsDownPose(m, shape, 20 * std::numbers::pi / 180);
+  const BodyPose hanging = armsDownPose(m, shape);
+  for (Canonical c : {Canonical::RightShoulder, Canonical::RightElbow})
+    scanned.axisAngle.row(joint(c)) = hanging.axisAngle.row(joint(c));
+  const PosedBody fitted = posed(scanned);
+  EXPECT_NEAR(degrees(armAngleBelowHorizontal(fitted, true)), 20.0, 1.0);
+  EXPECT_NEAR(degrees(armAngleBelowHorizontal(fitted, false)), 80.0, 1.0);
+
+  const DrapePoseChoice choice = drapePoseFor(m, shape, fitted);
+  EXPECT_NEAR(degrees(choice.downLeft), 20.0, 1.0);
+  EXPECT_DOUBLE_EQ(choice.downRight, kDrapeArmDown);
+  const PosedBody drape = posed(choice.pose);
+  EXPECT_NEAR(degrees(armAngleBelowHorizontal(drape, true)), 20.0, 1.0);
+  EXPECT_NEAR(degrees(armAngleBelowHorizontal(drape, false)), 45.0, 1.0);
+
+  // Arms above the shoulders: draped horizontal. A T-pose: horizontal. An A-pose: itself.
+  const DrapePoseChoice raised =
+      drapePoseFor(m, shape, posed(armsDownPose(m, shape, -30 * std::numbers::pi / 180)));
+  EXPECT_EQ(raised.downLeft, 0.0);
+  EXPECT_EQ(raised.downRight, 0.0);
+  const DrapePoseChoice t =
+      drapePoseFor(m, shape, posed(standardPose(m, shape, StandardPose::TPose)));
+  EXPECT_NEAR(degrees(t.downLeft), 0.0, 1.0);
+  EXPECT_NEAR(degrees(t.downRight), 0.0, 1.0);
+  const DrapePoseChoice a =
+      drapePoseFor(m, shape, posed(standardPose(m, shape, StandardPose::APose)));
+  EXPECT_NEAR(degrees(a.downLeft), 45.0, 1.0);
+  EXPECT_NEAR(degrees(a.downRight), 45.0, 1.0);
 }
 
 TEST(Posing, PoseJsonRoundTripAndErrors) {
