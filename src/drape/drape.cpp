@@ -169,6 +169,8 @@ class ClothSim {
   void wrapSelfSewnPanels(const DrapeInput& input);
   void separateLayers(const DrapeInput& input);
   void orientPanels(const DrapeInput& input);
+  double triangleOutward(const Vector3d& a, const Vector3d& b, const Vector3d& c,
+                         const Vector3d& n, double panelSide) const;
   bool wrapAroundLimb(int panel, const std::vector<std::pair<int, int>>& pairs);
   bool step(std::string& why);
   void substep();
@@ -503,6 +505,24 @@ void ClothSim::orientPanels(const DrapeInput& input) {
     outward_[p] = sum < 0 ? -1.0 : 1.0;
     f0 += nf;
   }
+}
+
+// Which side of triangle (a, b, c) with unit normal n faces away from the body: +1 along n,
+// −1 against it; `panelSide` (orientPanels) where the triangle stands on edge to the body (its
+// normal within 60° of the body's surface plane, a fold's wall). A layer's contacts take their
+// side per triangle: where the cloth folds back on itself (a waistband bunched at the hip) its
+// triangles face the other way from the panel's, and the panel's sign pushed the outer layer
+// through the fold and into the body (plus_size's fine drape: 3.9–4.4× within 5–20 steps).
+double ClothSim::triangleOutward(const Vector3d& a, const Vector3d& b, const Vector3d& c,
+                                 const Vector3d& n, double panelSide) const {
+  const Vector3d centroid = (a + b + c) / 3;
+  const SdfSample s = sdf_->sample(centroid);
+  const Vector3d away = s.distance < sdf_->exteriorBand()
+                            ? s.normal
+                            : (centroid - sdf_->query().closestPoint(centroid).point).normalized();
+  const double cosine = n.dot(away);
+  if (!std::isfinite(cosine) || std::abs(cosine) < 0.5) return panelSide;
+  return cosine > 0 ? 1.0 : -1.0;
 }
 
 // A panel sewn to itself across its width (a one-piece sleeve's underarm seam, a trouser leg's
@@ -979,6 +999,7 @@ void ClothSim::findContacts() {
       const Vector3d hi = a.cwiseMax(b).cwiseMax(c) + Vector3d::Constant(radius);
       const Eigen::Vector3i clo = (lo / cell).array().floor().cast<int>();
       const Eigen::Vector3i chi = (hi / cell).array().floor().cast<int>();
+      double outward = 0;  // this triangle's own outward side (triangleOutward), when needed
       for (int i = clo.x(); i <= chi.x(); ++i)
         for (int j = clo.y(); j <= chi.y(); ++j)
           for (int k = clo.z(); k <= chi.z(); ++k) {
@@ -1005,9 +1026,10 @@ void ClothSim::findContacts() {
                 near = adj_[q] == r[0] || adj_[q] == r[1] || adj_[q] == r[2];
               if (near) continue;
               const int lt = layer_[t[0]];  // the triangle's layer (one panel's)
+              if (layered_ && layer_[v] != lt && outward == 0)
+                outward = triangleOutward(a, b, c, n, outward_[panelOfFace_[f]]);
               if (layered_ && layer_[v] != lt)
-                out.push_back(
-                    {v, f, (layer_[v] > lt ? 1.0 : -1.0) * outward_[panelOfFace_[f]], true});
+                out.push_back({v, f, (layer_[v] > lt ? 1.0 : -1.0) * outward, true});
               else
                 out.push_back({v, f, d >= 0 ? 1.0 : -1.0});
             }
