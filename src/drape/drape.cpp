@@ -545,6 +545,12 @@ void ClothSim::wrapSelfSewnPanels(const DrapeInput& input) {
   }
 }
 
+// The shortest self-seam wrapped, × the square root of its panel's area. A tube of length L and
+// girth W has L / √(L·W) = √(L/W): a cap sleeve's 0.4, a short sleeve's 0.5, a long one's 1.2
+// (the suite); a third is a seam a ninth of the way round, no tube's length (the crescents of
+// sleeves the scan fused to the trunk: 0.06–0.27).
+constexpr double kWrapMinSeam = 1.0 / 3;
+
 // Wraps panel p (flat, sewn to itself by `pairs` across its width) around the limb under it;
 // false (the panel untouched) when it is not flat, the seam does not join its two sides, or no
 // limb lies under it.
@@ -566,6 +572,11 @@ bool ClothSim::wrapAroundLimb(int p, const std::vector<std::pair<int, int>>& pai
   Vector3d along = mid(pairs.back()) - mid(pairs.front());
   along -= along.dot(n) * n;
   if (along.norm() < 1e-6) return false;
+  // A seam much shorter than the panel is no tube's length: walking's sleeves, where the scan
+  // fused the sleeve to the trunk and only its outer half is cloth, are crescents sewn to
+  // themselves along 14–60 mm of underarm, wrapped about an axis that short seam could not set
+  // (the drape failed at its first step, 3.5× at the sleeve's top).
+  if (along.norm() < kWrapMinSeam * std::sqrt(area)) return false;
   along.normalize();
   Vector3d across = n.cross(along);
   // The seam joins the panel's two sides: each pair's partners on opposite sides, far apart.

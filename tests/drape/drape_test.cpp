@@ -142,6 +142,33 @@ TEST(Drape, ASleeveLaidFlatOverItsArmSewsClosedAroundTheArm_Slow) {
             << r.selfIntersections << " self-intersections, " << r.seconds << " s\n";
 }
 
+// The same panel sewn to itself along only 30 mm of its 0.3 m (the crescent a scan leaves of a
+// sleeve fused to the trunk, its underarm seam a few centimetres): no tube's length, so it is
+// not wrapped; the full-length seam is (above).
+TEST(Drape, APanelSewnToItselfAlongAShortSeamIsNotWrapped) {
+  const double armRadius = 0.045, width = 0.38, length = 0.3, edge = 0.015;
+  const int nx = static_cast<int>(std::lround(width / edge));
+  const int ny = static_cast<int>(std::lround(length / edge));
+  DrapeInput in;
+  in.body = makeClosedCylinder(armRadius, -0.05, length + 0.05, 20, 32);
+  const GridPanel sleeve =
+      makeGridPanel("sleeve", nx, ny, width, length, Vector3d(armRadius + 0.02, 0, width / 2),
+                    -Vector3d::UnitZ(), Vector3d::UnitY(), false);
+  in.panels.push_back(sleeve.panel);
+  for (int j = ny - 2; j <= ny; ++j)
+    in.stitches.push_back({0, sleeve.index(0, j), 0, sleeve.index(nx, j)});
+  DrapeOptions o;
+  o.gravity.setZero();
+  o.sewMaxSteps = 1;
+  o.drapeMinSteps = 0;
+  o.drapeMaxSteps = 1;
+  const DrapeResult r = runDrape(in, o);
+  ASSERT_NE(r.status, DrapeStatus::Failed) << r.failure;
+  EXPECT_TRUE(r.wrappedPanels.empty());
+  // Still flat where it was laid: every vertex in the plane x = armRadius + 2 cm.
+  EXPECT_NEAR(r.panels[0].col(0).minCoeff(), armRadius + 0.02, 0.005);
+}
+
 TEST(Drape, ASheetDroppedOnASphereRestsOnItWithoutPenetration_Slow) {
   const double y = kSphereRadius + 0.03;
   const DrapeInput in = sheetOnSphere(y);
