@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "export/preview.h"
 
 namespace s2p {
@@ -58,6 +60,19 @@ TEST(BitmapText, UpperCaseIsDrawnAsLowerCaseAndUnknownAsQuestionMark) {
   drawText(l, 0, 0, "l", 1, Rgb{0, 0, 0});
   drawText(i, 0, 0, "i", 1, Rgb{0, 0, 0});
   EXPECT_NE(l.rgb, i.rgb);
+}
+
+// The punctuation labels use has glyphs of its own (the drape legend's "mm; 30" came out
+// "mm? 30"): each differs from the unknown mark and from the others.
+TEST(BitmapText, PunctuationInLabelsHasItsOwnGlyphs) {
+  std::vector<std::vector<unsigned char>> seen;
+  for (const char* c : {"?", ";", ",", "'", "+", "=", "<", ">", ":", "."}) {
+    Image im = blank(8, 10);
+    drawText(im, 0, 0, c, 1, Rgb{0, 0, 0});
+    EXPECT_GT(inked(im), 0) << c;
+    for (const auto& other : seen) EXPECT_NE(im.rgb, other) << c;
+    seen.push_back(im.rgb);
+  }
 }
 
 TEST(BitmapText, ClipsAtTheImageBorder) {
