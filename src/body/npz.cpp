@@ -256,6 +256,12 @@ std::string readAll(const std::filesystem::path& path, const std::string& kind) 
 std::string inflateRaw(const char* data, size_t csize, size_t usize, const std::string& what) {
   if (csize > std::numeric_limits<uInt>::max() || usize > std::numeric_limits<uInt>::max())
     throw FormatError(what + ": entry too large");
+  // DEFLATE cannot expand more than 1032:1 (a 258-byte match per ~2 bits), so a declared size
+  // beyond that is a corrupt header: refuse it before allocating what it asks for.
+  constexpr size_t kMaxDeflateRatio = 1032;
+  if (usize > kMaxDeflateRatio * (csize + 1))
+    throw FormatError(what + ": corrupt zip entry (declares " + std::to_string(usize) +
+                      " bytes from " + std::to_string(csize) + " compressed)");
   std::string out(usize, '\0');
   z_stream zs{};
   if (inflateInit2(&zs, -15) != Z_OK) throw FormatError(what + ": zlib inflateInit2 failed");

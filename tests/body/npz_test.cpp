@@ -171,6 +171,18 @@ TEST(Npz, CorruptArchivesAreFormatErrorsNamingFileAndEntry) {
   EXPECT_NE(hdr.find("weights"), std::string::npos) << hdr;
   EXPECT_NE(hdr.find("bad_header.npz"), std::string::npos) << hdr;
 
+  // A compressed entry whose central record declares 3 GB: refused before it is allocated
+  // (found by fuzzing: the reader used to reserve the declared size first).
+  std::string huge = good;
+  const size_t second = huge.rfind("second.npy") - 46;  // its central directory record
+  ASSERT_EQ(huge.compare(second, 4, std::string("PK\x01\x02", 4)), 0);
+  const uint32_t threeGb = 3000000000u;
+  std::memcpy(&huge[second + 24], &threeGb, 4);
+  test::writeFile(dir / "huge.npz", huge);
+  const std::string big = messageOf<FormatError>([&] { readNpz(dir / "huge.npz"); });
+  EXPECT_NE(big.find("3000000000"), std::string::npos) << big;
+  EXPECT_NE(big.find("second"), std::string::npos) << big;
+
   // Zip64 end record markers are refused clearly.
   std::string zip64 = good;
   const size_t eocd = zip64.size() - 22;
