@@ -12,6 +12,8 @@ namespace s2p {
 
 enum class Limb { Torso, Neck, LeftArm, RightArm, LeftLeg, RightLeg };
 const char* toString(Limb limb);
+inline bool isArm(Limb l) { return l == Limb::LeftArm || l == Limb::RightArm; }
+inline bool isLeg(Limb l) { return l == Limb::LeftLeg || l == Limb::RightLeg; }
 
 struct LimbPlace {
   Limb limb = Limb::Torso;

@@ -789,30 +789,39 @@ int dropStrayPieces(PanelsInput::Garment& g, double minFraction) {
   return dropped;
 }
 
-int fillScanHoles(PanelsInput::Garment& g, const BodyFrame& frame, double minOpeningFraction) {
+int fillScanHoles(PanelsInput::Garment& g, const BodyFrame& frame, double minOpeningFraction,
+                  int* besideArm) {
+  if (besideArm) *besideArm = 0;
   if (g.mesh.numFaces() == 0) return 0;
   const MeshTopology topo(g.mesh.F, g.mesh.numVertices());
   if (!topo.manifoldness().isManifold()) return 0;  // refused with its own error later
   const std::vector<Opening> openings = classifyOpenings(g.mesh, topo, g.kind, frame);
-  // The longest loop of each name is the opening; the others are holes.
-  std::map<std::string, int> longest;
-  for (size_t i = 0; i < openings.size(); ++i) {
-    auto [it, added] = longest.try_emplace(openings[i].name, static_cast<int>(i));
-    if (openings[i].length > openings[it->second].length) it->second = static_cast<int>(i);
-  }
   const double stature = frame.height(frame.at(Canonical::HeadTop)) -
                          0.5 * (frame.height(frame.at(Canonical::LeftAnkle)) +
                                 frame.height(frame.at(Canonical::RightAnkle)));
   const double minOpening = minOpeningFraction * stature;
+  // A loop can be an opening when a hand passes through it and, if it is named for an arm, when
+  // the arm passes through it: a hole where no camera looked into the armpit lies beside the arm
+  // (f3's tank top, whose armholes the scan merged with its neckline, kept 15–17 cm armpit holes
+  // as armholes). The longest such loop of each name is the opening; the others are holes.
+  std::vector<bool> armless(openings.size(), false);
+  std::map<std::string, int> longest;
+  for (size_t i = 0; i < openings.size(); ++i) {
+    armless[i] = isArm(openings[i].limb) && openings[i].armCrossings == 0;
+    if (openings[i].length < minOpening || armless[i]) continue;
+    auto [it, added] = longest.try_emplace(openings[i].name, static_cast<int>(i));
+    if (openings[i].length > openings[it->second].length) it->second = static_cast<int>(i);
+  }
   std::vector<Eigen::RowVector3d> newV;
   std::vector<Eigen::RowVector3i> newF;
   std::vector<int> newOrigin;
   int filled = 0;
   for (size_t i = 0; i < openings.size(); ++i) {
-    if (longest[openings[i].name] == static_cast<int>(i) && openings[i].length >= minOpening)
-      continue;
+    const auto kept = longest.find(openings[i].name);
+    if (kept != longest.end() && kept->second == static_cast<int>(i)) continue;
     const std::vector<int>& loop = openings[i].vertices;
     if (loop.size() < 3) continue;
+    if (besideArm && armless[i] && openings[i].length >= minOpening) ++*besideArm;
     Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
     for (int v : loop) centre += g.mesh.V.row(v);
     centre /= static_cast<double>(loop.size());
@@ -868,12 +877,17 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
           fmt::format("garment '{}': {} closed or tiny piece(s) left out "
                       "(no cloth to cut)",
                       garments[g].name, dropped));
-    const int filled = fillScanHoles(garments[g], frame, options.minOpeningFraction);
+    int besideArm = 0;
+    const int filled = fillScanHoles(garments[g], frame, options.minOpeningFraction, &besideArm);
     if (filled > 0)
-      result.warnings.push_back(
-          fmt::format("garment '{}': {} hole(s) of the scan filled (boundary "
-                      "loops that are not its openings)",
-                      garments[g].name, filled));
+      result.warnings.push_back(fmt::format(
+          "garment '{}': {} hole(s) of the scan filled (boundary loops that are not its "
+          "openings{})",
+          garments[g].name, filled,
+          besideArm > 0 ? fmt::format("; {} of them named for an arm that does not pass "
+                                      "through them",
+                                      besideArm)
+                        : ""));
   }
   // A garment that makes no pattern does not cost the others theirs: its error becomes a
   // warning, and only when no garment makes one is the error raised.

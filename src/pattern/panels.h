@@ -105,13 +105,15 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options = {
 // or below `minFraction` of its area. Returns how many. runPanels does this first.
 int dropStrayPieces(PanelsInput::Garment& garment, double minFraction);
 
-// Fills the garment's boundary loops that are not openings (holes of the scan: every loop but the
-// longest of each opening name, and every loop too short for a hand to pass, below
-// minOpeningFraction × the body's head-top-to-ankle height) with a fan around the loop's
-// centroid; the new faces take the scan face of the face they border. Returns the number of
-// holes filled. runPanels does this first.
+// Fills the garment's boundary loops that are not openings with a fan around the loop's
+// centroid; the new faces take the scan face of the face they border. An opening is the longest
+// loop of its name among those a hand can pass (at least minOpeningFraction × the body's
+// head-top-to-ankle height) and, for a name on an arm, that the arm passes through
+// (Opening::armCrossings); every other loop is a hole of the scan. Returns the number of holes
+// filled; `besideArm`, if given, receives how many of them were long enough for an opening but
+// named for an arm that does not pass through them. runPanels does this first.
 int fillScanHoles(PanelsInput::Garment& garment, const BodyFrame& frame,
-                  double minOpeningFraction = 0.06);
+                  double minOpeningFraction = 0.06, int* besideArm = nullptr);
 
 // The second half of runPanels for garment `garment` of `input`, with its seam lines given (their
 // phi on the garment's vertices) instead of estimated from the body's features; appends to

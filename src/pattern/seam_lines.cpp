@@ -60,12 +60,6 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 // shortest cap sleeve ends at t ≈ 0.25).
 constexpr double kCuffT = 0.2;
 
-bool isArm(Limb l) {
-  return l == Limb::LeftArm || l == Limb::RightArm;
-}
-bool isLeg(Limb l) {
-  return l == Limb::LeftLeg || l == Limb::RightLeg;
-}
 const char* sideOf(Limb l) {
   return l == Limb::LeftArm || l == Limb::LeftLeg ? "left" : "right";
 }
@@ -254,6 +248,46 @@ double windingAboutArm(const TriMesh& mesh, const std::vector<int>& run, const B
   return winding;
 }
 
+// Signed number of times the arm's bone chain (clavicle → shoulder → elbow → wrist → hand tip)
+// passes through the fan of triangles from `centre` over the closed loop: ±1 when the arm goes
+// through the loop, whatever the pose, 0 when the loop lies beside the arm. The chain starts in
+// the trunk and ends outside the garment, so it passes through the opening the arm leaves by
+// (an armhole or a cuff); a hole the scan left in the armpit or on the sleeve lies on the cloth,
+// away from the bones.
+int armChainCrossings(const TriMesh& mesh, const std::vector<int>& loop, const Vec3& centre,
+                      const BodyFrame& frame, Limb arm) {
+  using C = Canonical;
+  const bool left = arm == Limb::LeftArm;
+  const std::array<Vec3, 5> chain{frame.at(left ? C::LeftClavicle : C::RightClavicle),
+                                  frame.at(left ? C::LeftShoulder : C::RightShoulder),
+                                  frame.at(left ? C::LeftElbow : C::RightElbow),
+                                  frame.at(left ? C::LeftWrist : C::RightWrist),
+                                  frame.at(left ? C::LeftHandTip : C::RightHandTip)};
+  const auto orient = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    return (b - a).cross(c - a).dot(d - a);
+  };
+  const auto sign = [](double x) { return (x > 0) - (x < 0); };
+  int crossings = 0;
+  const size_t n = loop.size();
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 a = centre;
+    const Vec3 b = mesh.V.row(loop[i]).transpose();
+    const Vec3 c = mesh.V.row(loop[(i + 1) % n]).transpose();
+    for (size_t s = 0; s + 1 < chain.size(); ++s) {
+      const Vec3& p = chain[s];
+      const Vec3& q = chain[s + 1];
+      const int sp = sign(orient(a, b, c, p));
+      const int sq = sign(orient(a, b, c, q));
+      if (sp == 0 || sp == sq) continue;  // both ends on one side of the triangle's plane
+      const int e0 = sign(orient(p, q, a, b));
+      const int e1 = sign(orient(p, q, b, c));
+      const int e2 = sign(orient(p, q, c, a));
+      if (e0 == e1 && e1 == e2 && e0 != 0) crossings += sq;  // through the inside
+    }
+  }
+  return crossings;
+}
+
 // The cuffs the scan joined to a loop that is not itself on an arm (Opening::joinedCuffs): each
 // maximal stretch of the loop whose vertices lie on one arm past the armhole, kept when it winds
 // at least half way round the arm. A hem that merely passes beside a hanging forearm runs along
@@ -331,6 +365,7 @@ std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology
     const double h = frame.height(o.centroid);
     if (isArm(place.limb)) {
       o.name = fmt::format("{}_{}", sideOf(place.limb), place.t > kCuffT ? "cuff" : "armhole");
+      o.armCrossings = armChainCrossings(garment, loop, o.centroid, frame, place.limb);
     } else if (place.limb == Limb::Neck || (place.limb == Limb::Torso && h > 0.5 * shoulderH)) {
       o.name = "neckline";
     } else if (isLeg(place.limb) && std::abs(frame.lateral(o.centroid)) > 0.5 * hipHalf &&

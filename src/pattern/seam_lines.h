@@ -107,6 +107,10 @@ struct Opening {
   std::vector<int> vertices;  // the garment's boundary loop (vertex ids)
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   double length = 0;  // m
+  // A loop on an arm: the signed number of times the arm's bones (clavicle to hand tip) pass
+  // through the fan over the loop from its centroid. The arm leaves the garment through its
+  // armhole or cuff (±1, in any pose); a hole the scan left in the armpit lies beside it (0).
+  int armCrossings = 0;
   // A cuff the scan joined to this opening (a hand hanging against the hem): a stretch of the
   // loop past the armhole on one arm that winds at least half way round the arm's axis. The
   // sleeve logic takes it as that arm's cuff.

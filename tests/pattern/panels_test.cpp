@@ -590,3 +590,78 @@ TEST(Panels, LoopTooSmallForAHandIsAHoleNotAnOpening) {
 
 }  // namespace
 }  // namespace s2p
+
+namespace s2p {
+namespace {
+
+// The test skeleton with its arms hanging down beside the trunk (a relaxed stance).
+Eigen::MatrixX3d armsDownSkeleton() {
+  Eigen::MatrixX3d C = skeleton();
+  auto set = [&](Canonical c, double x, double y) {
+    C.row(static_cast<int>(c)) << x, y, 0;
+  };
+  using K = Canonical;
+  for (double s : {1.0, -1.0}) {
+    const bool l = s > 0;
+    set(l ? K::LeftElbow : K::RightElbow, 0.22 * s, 0.2);
+    set(l ? K::LeftWrist : K::RightWrist, 0.24 * s, -0.05);
+    set(l ? K::LeftHandTip : K::RightHandTip, 0.25 * s, -0.2);
+  }
+  return C;
+}
+
+// A trunk tube (y ∈ [0.05, 0.55], radius 0.15) with a round hole of `radius` punched in its left
+// side, centred at height y.
+TriMesh trunkWithSideHole(double y, double radius) {
+  TriMesh tube = makeCylinder(40, 96, 0.15, 0.5);
+  tube.V.col(1).array() += 0.05;
+  std::vector<Eigen::RowVector3i> kept;
+  for (int f = 0; f < tube.numFaces(); ++f) {
+    const Vec3 c =
+        (tube.V.row(tube.F(f, 0)) + tube.V.row(tube.F(f, 1)) + tube.V.row(tube.F(f, 2))) / 3;
+    if ((c - Vec3(0.15, y, 0)).norm() > radius) kept.push_back(tube.F.row(f));
+  }
+  tube.F.resize(static_cast<int>(kept.size()), 3);
+  for (size_t f = 0; f < kept.size(); ++f) tube.F.row(static_cast<int>(f)) = kept[f];
+  removeUnreferencedVertices(tube);
+  return tube;
+}
+
+const Opening* openingNamed(const std::vector<Opening>& openings, const std::string& name) {
+  for (const Opening& o : openings)
+    if (o.name == name) return &o;
+  return nullptr;
+}
+
+// f3's tank top: the scan merged both armholes with the neckline, and a hole no camera saw into
+// the armpit became the only loop named for the arm. It lies beside the arm: filled. A cut-in
+// armhole of a sleeveless top, in the same stance, is where the arm leaves the garment: kept,
+// although it does not go round the arm's axis (which passes outside it, beside the trunk).
+TEST(Panels, ALoopBesideTheArmIsAHoleALoopTheArmLeavesByIsAnArmhole) {
+  const BodyFrame frame(armsDownSkeleton());
+  for (const bool armhole : {false, true}) {
+    SCOPED_TRACE(armhole ? "cut-in armhole" : "armpit hole");
+    const TriMesh top = armhole ? trunkWithSideHole(0.43, 0.07) : trunkWithSideHole(0.38, 0.025);
+    const MeshTopology topo(top.F, top.numVertices());
+    ASSERT_EQ(topo.boundaryLoops().size(), 3u);
+    const auto openings = classifyOpenings(top, topo, GarmentKind::Upper, frame);
+    const Opening* side = openingNamed(openings, "left_armhole");
+    ASSERT_NE(side, nullptr);
+    EXPECT_GT(side->length, 0.06 * 1.65);  // long enough for a hand: the length rule keeps it
+    EXPECT_EQ(std::abs(side->armCrossings), armhole ? 1 : 0);
+    PanelsInput::Garment g = inputFor(top, GarmentKind::Upper).garments[0];
+    int besideArm = -1;
+    EXPECT_EQ(fillScanHoles(g, frame, 0.06, &besideArm), armhole ? 0 : 1);
+    EXPECT_EQ(besideArm, armhole ? 0 : 1);
+    const MeshTopology after(g.mesh.F, g.mesh.numVertices());
+    EXPECT_EQ(after.boundaryLoops().size(), armhole ? 3u : 2u);
+  }
+  // A sleeve on a raised arm: the arm leaves by its armhole and its cuff.
+  const TriMesh arm = armTube();
+  const MeshTopology ta(arm.F, arm.numVertices());
+  for (const Opening& o : classifyOpenings(arm, ta, GarmentKind::Upper, BodyFrame(skeleton())))
+    EXPECT_EQ(std::abs(o.armCrossings), 1) << o.name;
+}
+
+}  // namespace
+}  // namespace s2p
