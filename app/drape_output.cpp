@@ -113,7 +113,8 @@ json drapeToJson(const PipelineResult& run) {
                         {"scanned_to_draped", statsJson(g.comparison.bToA)},
                         {"mean_mm", g.comparison.meanMm()},
                         {"p95_mm", g.comparison.p95Mm()},
-                        {"max_mm", g.comparison.maxMm()}});
+                        {"max_mm", g.comparison.maxMm()},
+                        {"top_drop_mm", g.topDropMm}});
   }
   json coarse = nullptr;  // the coarse drape the result started from (drape/coarse_to_fine.h)
   if (d.coarseToFine) {
@@ -230,8 +231,11 @@ void printDrape(const PipelineResult& run) {
       r.bodyPenetrations, r.selfIntersections);
   for (const GarmentDrape& g : d.garments)
     if (g.draped.numFaces() > 0)
-      fmt::print("  {}: draped vs scanned {:.1f} mm mean, {:.1f} mm p95, {:.1f} mm max\n",
-                 g.garment, g.comparison.meanMm(), g.comparison.p95Mm(), g.comparison.maxMm());
+      fmt::print(
+          "  {}: draped vs scanned {:.1f} mm mean, {:.1f} mm p95, {:.1f} mm max; top {:.0f} mm "
+          "below the scanned top\n",
+          g.garment, g.comparison.meanMm(), g.comparison.p95Mm(), g.comparison.maxMm(),
+          g.topDropMm);
   for (const std::string& w : d.warnings) fmt::print("  warning: {}\n", w);
 }
 

@@ -36,4 +36,12 @@ MeshComparison compareMeshes(const TriMesh& a, const TriMesh& b);
 // Area-weighted statistics of per-vertex distances (metres) on `mesh`; #V distances.
 SurfaceDistanceStats distanceStats(const TriMesh& mesh, const Eigen::VectorXd& distance);
 
+// How far (mm) the top of `draped` hangs below the top of `scanned` along the unit vector `up`:
+// the difference of their area-weighted 98th-percentile heights (negative: it rides higher). A
+// garment held where it was scanned (by the shoulders, by the waist) gives a few mm; one that
+// nothing holds there (a top wider than the chest with no straps, straps the scan did not join
+// to the front, a waist looser than the body) slides down by tens of mm. Throws InputError for
+// an empty or invalid mesh.
+double topDropMm(const TriMesh& draped, const TriMesh& scanned, const Eigen::Vector3d& up);
+
 }  // namespace s2p

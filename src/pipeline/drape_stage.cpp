@@ -223,6 +223,17 @@ DrapeStage runDrapeStage(const PatternResult& pattern, const Segmentation& segme
       gd.draped.F.row(f++) << a, map[out.drape.garment.F(k, 1)], map[out.drape.garment.F(k, 2)];
     }
     gd.comparison = compareMeshes(gd.draped, gd.scanned);
+    gd.topDropMm = topDropMm(gd.draped, gd.scanned, Eigen::Vector3d::UnitY());
+    // As far as a close-fitting garment's p95 may be from the scan (issue 19): beyond it the
+    // garment has slid, and the distances above say more about what holds it than about its cut.
+    constexpr double kSlidMm = 30;
+    if (gd.topDropMm > kSlidMm)
+      out.warnings.push_back(fmt::format(
+          "drape: garment '{}' hangs {:.0f} mm below where it was scanned (its top edge): nothing "
+          "holds it there in the simulation. A top without straps wider than the chest, straps "
+          "or shoulders the scan did not join front to back, or a waist looser than the body "
+          "slide down; the scanned garment was held by something the pattern does not have",
+          gd.garment, gd.topDropMm));
     // Per panel region: its block of draped vertices (panels are concatenated in cloth order).
     for (size_t c = 0, v0 = 0; c < out.panelOf.size(); ++c) {
       if (out.garmentOf[c] != static_cast<int>(g)) continue;

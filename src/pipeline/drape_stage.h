@@ -30,6 +30,7 @@ struct GarmentDrape {
   TriMesh draped;             // the garment's panels after the drape, rest frame (metres)
   TriMesh scanned;            // the cut garment of the segmentation in the drape pose
   MeshComparison comparison;  // A = draped, B = scanned
+  double topDropMm = 0;       // how far its top hangs below the scanned top (drape/compare.h)
   // Per panel region: the panel's draped vertices to the scanned garment, (panel name, stats).
   std::vector<std::pair<std::string, SurfaceDistanceStats>> panels;
 };

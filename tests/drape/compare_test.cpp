@@ -49,6 +49,21 @@ TEST(CompareMeshes, APartlyUncoveredMeshHasItsLargestDistanceWhereItSticksOut) {
 
 TEST(CompareMeshes, EmptyMeshIsAnInputError) {
   EXPECT_THROW(compareMeshes(TriMesh{}, makeGrid(2, 2)), InputError);
+  EXPECT_THROW(topDropMm(TriMesh{}, makeGrid(2, 2), Eigen::Vector3d::UnitY()), InputError);
+}
+
+TEST(TopDrop, ATubeSlidDownHangsByHowFarItSlid) {
+  // The scanned tube: y ∈ [0, 0.3]. The draped one, meshed otherwise and a little wider, slid
+  // 120 mm down: the top drops by that, whatever the meshing (rings 3 and 5 mm apart).
+  const TriMesh scanned = makeCylinder(100, 64, 0.15, 0.3);
+  TriMesh draped = makeCylinder(60, 48, 0.16, 0.3);
+  EXPECT_NEAR(topDropMm(draped, scanned, Eigen::Vector3d::UnitY()), 0.0, 5.0);
+  draped.V.col(1).array() -= 0.12;
+  EXPECT_NEAR(topDropMm(draped, scanned, Eigen::Vector3d::UnitY()), 120.0, 5.0);
+  // Its top higher than scanned: negative. Sideways (x) the slide does not count: the draped
+  // tube reaches 10 mm further (radius 0.16 against 0.15).
+  EXPECT_NEAR(topDropMm(scanned, draped, Eigen::Vector3d::UnitY()), -120.0, 5.0);
+  EXPECT_NEAR(topDropMm(draped, scanned, Eigen::Vector3d::UnitX()), -10.0, 1.5);
 }
 
 }  // namespace
