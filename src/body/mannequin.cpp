@@ -26,26 +26,33 @@ struct ParamInfo {
   const char* name;
   const char* description;
   double MannequinMeasurements::*field;
+  // The range the fit may use (cm from the base body). Girths reach far further up than down:
+  // adult waists run from about 60 to 130 cm (the base is 82), and a fit held at +10 leaves a
+  // fuller body too thin under its clothes (the suite's plus_size, waist +18: its trousers,
+  // sized for the true waist, slid 10 cm down the fitted one in the drape check).
+  double min, max;
 };
 
 const std::array<ParamInfo, kMannequinShapes>& paramInfo() {
   static const std::array<ParamInfo, kMannequinShapes> info = {{
-      {"height", "height, floor to head top; +1 = +1 cm", &MannequinMeasurements::height},
+      {"height", "height, floor to head top; +1 = +1 cm", &MannequinMeasurements::height, -25,
+       25},
       {"chest", "chest girth (horizontal tape at chest level); +1 = +1 cm",
-       &MannequinMeasurements::chest},
+       &MannequinMeasurements::chest, -20, 40},
       {"waist", "waist girth (horizontal tape at waist level); +1 = +1 cm",
-       &MannequinMeasurements::waist},
+       &MannequinMeasurements::waist, -20, 45},
       {"hip", "hip girth (horizontal tape at the fullest buttocks); +1 = +1 cm",
-       &MannequinMeasurements::hip},
+       &MannequinMeasurements::hip, -20, 40},
       {"shoulder", "distance between the shoulder joints; +1 = +1 cm",
-       &MannequinMeasurements::shoulder},
+       &MannequinMeasurements::shoulder, -10, 10},
       {"arm", "arm length, shoulder joint to elbow to wrist; +1 = +1 cm",
-       &MannequinMeasurements::armLength},
-      {"inseam", "inseam, floor to crotch; +1 = +1 cm", &MannequinMeasurements::inseam},
-      {"neck", "neck girth; +1 = +1 cm", &MannequinMeasurements::neck},
-      {"thigh", "thigh girth 5 cm below the crotch; +1 = +1 cm", &MannequinMeasurements::thigh},
+       &MannequinMeasurements::armLength, -10, 10},
+      {"inseam", "inseam, floor to crotch; +1 = +1 cm", &MannequinMeasurements::inseam, -15, 15},
+      {"neck", "neck girth; +1 = +1 cm", &MannequinMeasurements::neck, -8, 12},
+      {"thigh", "thigh girth 5 cm below the crotch; +1 = +1 cm", &MannequinMeasurements::thigh,
+       -12, 25},
       {"upper_arm", "upper-arm girth at mid shoulder-elbow; +1 = +1 cm",
-       &MannequinMeasurements::upperArm},
+       &MannequinMeasurements::upperArm, -8, 16},
   }};
   return info;
 }
@@ -410,7 +417,8 @@ BodyModel makeMannequin(const MannequinOptions& options) {
                     [&](int v) { att[v] = attach(body, mesh.V.row(v).transpose(), 0.005 * s); });
   model.shapeDirs.setZero(3 * nv, kMannequinShapes);
   for (int p = 0; p < kMannequinShapes; ++p) {
-    model.shapeParams.push_back({paramInfo()[p].name, paramInfo()[p].description, -10, 10});
+    model.shapeParams.push_back(
+        {paramInfo()[p].name, paramInfo()[p].description, paramInfo()[p].min, paramInfo()[p].max});
     Eigen::MatrixX3d moved[2];
     for (int sign = 0; sign < 2; ++sign) {
       Eigen::VectorXd beta = Eigen::VectorXd::Zero(kMannequinShapes);

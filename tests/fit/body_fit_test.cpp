@@ -56,6 +56,30 @@ TEST(BodyFit, FitsUnderOffsetClothing_Slow) {
   EXPECT_GE(r.insideOrNear, 0.95);
 }
 
+// A fuller body than the base (chest +16, waist +24, hip +16 cm, as plus-size people are) used as
+// the scan: the fit must be allowed that far. Held at the old ±10 cm range it left the body 14 cm
+// thin at the waist, and trousers sized for the true waist slid down it in the drape check.
+TEST(BodyFit, RecoversAFullerBodyThanTheBase_Slow) {
+  const BodyModel& m = test::smallMannequin();
+  BodyParams truth = test::testParams(m, TestPose::APose);
+  ASSERT_GE(m.numShapes(), 4);
+  ASSERT_EQ(m.shapeParams[2].name, "waist");
+  truth.shape[1] = 16.0;  // chest
+  truth.shape[2] = 24.0;  // waist
+  truth.shape[3] = 16.0;  // hip
+  truth.pose = standardPose(m, truth.shape, StandardPose::APose);
+  const PosedBody target = poseBody(m, truth);
+  BodyFitInput in{.scan = target.mesh, .model = &m, .initial = std::nullopt};
+  BodyFitOptions opt;
+  opt.weights.shape = 1e-5;
+  opt.weights.pose = 1e-5;
+  const BodyFitResult r = runBodyFit(in, opt);
+  for (int s : {1, 2, 3})
+    EXPECT_NEAR(r.params.shape[s], truth.shape[s], 1.5) << m.shapeParams[s].name;
+  const test::JointError e = test::canonicalJointError(r.body.canonical, target.canonical);
+  EXPECT_LT(e.max, 0.005) << "mean " << e.mean;
+}
+
 TEST(BodyFit, RejectsBadInput) {
   const BodyModel& m = test::smallMannequin();
   EXPECT_THROW(runBodyFit({.scan = makeIcosphere(3), .model = nullptr, .initial = {}}), InputError);
