@@ -268,6 +268,7 @@ json flatPatternToJson(const PanelsResult& panels, const FlatPatternResult& flat
               {"boundary_self_intersects", m.boundarySelfIntersects},
               {"refinement_iterations", fp.flattening.iterations},
               {"refinement_reverted", fp.flattening.refinementReverted},
+              {"boundary_spikes_pulled_in", fp.flattening.boundarySpikes},
               {"reshaped", fp.reshaped},
               {"strain_as_scanned", fp.reshaped.empty()
                                         ? json(nullptr)

@@ -71,6 +71,7 @@ struct PanelFlattening {
   int rejectedIterations = 0;       // steps discarded because they inverted faces
   bool refinementReverted = false;  // the refined boundary overlapped itself: uv = uvBff
   int bffInvertedFaces = 0;         // faces BFF folded, before their repair (flip_repair.h)
+  int boundarySpikes = 0;  // boundary vertices of slivers thrown out and put back (BFF + refined)
   double seconds = 0.0;             // wall time of flattenPanel
 };
 
@@ -103,6 +104,15 @@ struct PanelFlatteningOutcome {
 // in the outcome and the others are still flattened. Outcomes in the order of panels.
 std::vector<PanelFlatteningOutcome> flattenPanels(const std::vector<PanelToFlatten>& panels,
                                                   const FlattenOptions& options = {});
+
+// Where two seam lines meet, the cut can leave slivers a fraction of a millimetre across at the
+// boundary, and a flattening can throw such a sliver's free corner centimetres out: its area
+// weighs next to nothing in the energies. A boundary vertex whose 2D edges are more than 4 times,
+// and 2 mm longer than, its 3D edges is put back where its faces place it: each face laid out
+// from its other two corners with its 3D shape (scaled to their 2D distance), averaged over its
+// faces. Returns how many vertices moved. flattenPanel does this to BFF's and the refined result.
+int pullInBoundarySpikes(const TriMesh& panel, const std::vector<int>& boundary,
+                         Eigen::MatrixX2d& uv);
 
 // The input checks of flattenPanel alone (throws as documented there); returns the boundary
 // loop (vertex indices, in the orientation of the faces).

@@ -438,3 +438,62 @@ TEST(Flatten, FiftyThousandFacePanelTiming_Slow) {
 
 }  // namespace
 }  // namespace s2p
+
+namespace s2p {
+namespace {
+
+// A flat 20 cm square (2 cm edges) whose flattening is known (its own x, y): a boundary vertex
+// thrown 10 cm out is put back where its faces say; one 0.5 mm off, or an interior one, is left
+// alone. A sliver (a boundary vertex 0.3 mm from its neighbour and 0.05 mm off the boundary, as
+// the cut leaves where seams meet) thrown 2 cm out comes back to where it lies.
+TEST(Flatten, BoundarySpikesArePulledBackWhereTheirFacesPutThem) {
+  TriMesh panel = makeGrid(10, 10, 0.2, 0.2);
+  const std::vector<int> boundary = checkFlattenablePanel(panel, "square");
+  Eigen::MatrixX2d exact = panel.V.leftCols(2);
+  // A boundary vertex that is no corner of the square, and the middle vertex.
+  int side = -1, middle = -1;
+  for (int v : boundary)
+    if (std::abs(panel.V(v, 1) - panel.V.col(1).minCoeff()) < 1e-12 &&
+        std::abs(panel.V(v, 0) - panel.V.col(0).mean()) < 0.011)
+      side = v;
+  for (int v = 0; v < panel.numVertices(); ++v)
+    if ((panel.V.row(v).leftCols(2) - panel.V.colwise().mean().leftCols(2)).norm() < 1e-9)
+      middle = v;
+  ASSERT_GE(side, 0);
+  ASSERT_GE(middle, 0);
+
+  Eigen::MatrixX2d uv = exact;
+  uv(side, 1) -= 0.1;
+  uv(middle, 0) += 0.02;
+  EXPECT_EQ(pullInBoundarySpikes(panel, boundary, uv), 1);
+  EXPECT_LT((uv.row(side) - exact.row(side)).norm(), 1e-9);
+  EXPECT_NEAR(uv(middle, 0) - exact(middle, 0), 0.02, 1e-12);  // interior: not a spike
+
+  uv = exact;
+  uv(side, 1) -= 0.0005;
+  EXPECT_EQ(pullInBoundarySpikes(panel, boundary, uv), 0);
+  EXPECT_NEAR(uv(side, 1) - exact(side, 1), -0.0005, 1e-12);
+
+  // The sliver: a new boundary vertex 0.3 mm along the boundary edge side → next and 0.05 mm
+  // outside it, on one face with that edge's two ends.
+  const size_t at = static_cast<size_t>(std::find(boundary.begin(), boundary.end(), side) -
+                                        boundary.begin());
+  const int next = boundary[(at + 1) % boundary.size()];
+  const Eigen::RowVector3d mid =
+      panel.V.row(side) + 0.0003 * (panel.V.row(next) - panel.V.row(side)).normalized();
+  const int w = panel.numVertices();
+  panel.V.conservativeResize(w + 1, 3);
+  panel.V.row(w) = mid - Eigen::RowVector3d(0, 0.00005, 0);
+  panel.F.conservativeResize(panel.numFaces() + 1, 3);
+  panel.F.row(panel.numFaces() - 1) << next, side, w;  // the boundary runs side → next
+  const std::vector<int> withSliver = checkFlattenablePanel(panel, "square with a sliver");
+  ASSERT_EQ(withSliver.size(), boundary.size() + 1);
+  uv.conservativeResize(w + 1, 2);
+  uv.topRows(w) = exact;
+  uv.row(w) = mid.leftCols(2) + Eigen::RowVector2d(0.005, -0.02);
+  EXPECT_EQ(pullInBoundarySpikes(panel, withSliver, uv), 1);
+  EXPECT_LT((uv.row(w) - (mid.leftCols(2) - Eigen::RowVector2d(0, 0.00005))).norm(), 1e-6);
+}
+
+}  // namespace
+}  // namespace s2p
