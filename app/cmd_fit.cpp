@@ -220,8 +220,8 @@ struct FitSuiteCommand {
   bool drape = false;  // with segment: also sew and drape each pattern (issue 19's suite check)
 };
 
-// The drape columns of a fit-suite row: status, per garment draped-vs-scanned mean / p95 mm,
-// self-intersections and penetrations (GarmentCode's gates), seconds; the figures into row.
+// The drape columns of a fit-suite row: status, per garment draped-vs-scanned mean / p95 mm and
+// how far its top hangs below the scanned top (mm), self-intersections and penetrations (GarmentCode's gates), seconds; the figures into row.
 std::string drapeColumns(const RunOutput& run, const fs::path& outDir, json& row) {
   writeDrape(outDir / "drape", run);
   row["drape"] = drapeToJson(run);
@@ -230,8 +230,9 @@ std::string drapeColumns(const RunOutput& run, const fs::path& outDir, json& row
   std::string garments;
   for (const GarmentDrape& g : d.garments)
     if (g.draped.numFaces() > 0)
-      garments += fmt::format("{}{} {:.1f} / {:.1f}", garments.empty() ? "" : ", ", g.garment,
-                              g.comparison.meanMm(), g.comparison.p95Mm());
+      garments += fmt::format("{}{} {:.1f} / {:.1f} ({:.0f})", garments.empty() ? "" : ", ",
+                              g.garment, g.comparison.meanMm(), g.comparison.p95Mm(),
+                              g.topDropMm);
   const DrapeResult& r = d.drape;
   return fmt::format(" {} | {} | {} | {} | {:.1f} |", toString(r.status),
                      garments.empty() ? "–" : garments, r.selfIntersections, r.bodyPenetrations,
@@ -253,7 +254,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
       cmd.segment ? " garment IoU | boundary mean mm | worst p95 mm | types | panel sets | disks | "
                     "armhole − armpit mm | mirror area % | side seam ° | panels s |"
                   : "",
-      cmd.segment && cmd.drape ? " drape | draped vs scanned mean / p95 mm | self-isect | "
+      cmd.segment && cmd.drape ? " drape | draped vs scanned mean / p95 mm (top drop mm) | self-isect | "
                                  "penetrations | drape s |"
                                : "",
       cmd.segment ? "---|---|---|---|---|---|---|---|---|---|" : "",
