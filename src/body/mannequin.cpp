@@ -48,7 +48,7 @@ const std::array<ParamInfo, kMannequinShapes>& paramInfo() {
       {"arm", "arm length, shoulder joint to elbow to wrist; +1 = +1 cm",
        &MannequinMeasurements::armLength, -10, 10},
       {"inseam", "inseam, floor to crotch; +1 = +1 cm", &MannequinMeasurements::inseam, -15, 15},
-      {"neck", "neck girth; +1 = +1 cm", &MannequinMeasurements::neck, -8, 12},
+      {"neck", "neck girth; +1 = +1 cm", &MannequinMeasurements::neck, -10, 12},
       {"thigh", "thigh girth 5 cm below the crotch; +1 = +1 cm", &MannequinMeasurements::thigh,
        -12, 25},
       {"upper_arm", "upper-arm girth at mid shoulder-elbow; +1 = +1 cm",
