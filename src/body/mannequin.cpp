@@ -26,8 +26,8 @@ struct ParamInfo {
   const char* name;
   const char* description;
   double MannequinMeasurements::*field;
-  // The range the fit may use (cm from the base body). Girths reach far further up than down:
-  // adult waists run from about 60 to 130 cm (the base is 82), and a fit held at +10 leaves a
+  // The range the fit may use (cm from the base body): 10 below the base, and further above it
+  // where people are: adult waists reach 130 cm (the base is 82), and a fit held at +10 leaves a
   // fuller body too thin under its clothes (the suite's plus_size, waist +18: its trousers,
   // sized for the true waist, slid 10 cm down the fitted one in the drape check).
   double min, max;
@@ -35,24 +35,24 @@ struct ParamInfo {
 
 const std::array<ParamInfo, kMannequinShapes>& paramInfo() {
   static const std::array<ParamInfo, kMannequinShapes> info = {{
-      {"height", "height, floor to head top; +1 = +1 cm", &MannequinMeasurements::height, -25,
+      {"height", "height, floor to head top; +1 = +1 cm", &MannequinMeasurements::height, -10,
        25},
       {"chest", "chest girth (horizontal tape at chest level); +1 = +1 cm",
-       &MannequinMeasurements::chest, -20, 40},
+       &MannequinMeasurements::chest, -10, 40},
       {"waist", "waist girth (horizontal tape at waist level); +1 = +1 cm",
-       &MannequinMeasurements::waist, -20, 45},
+       &MannequinMeasurements::waist, -10, 45},
       {"hip", "hip girth (horizontal tape at the fullest buttocks); +1 = +1 cm",
-       &MannequinMeasurements::hip, -20, 40},
+       &MannequinMeasurements::hip, -10, 40},
       {"shoulder", "distance between the shoulder joints; +1 = +1 cm",
        &MannequinMeasurements::shoulder, -10, 10},
       {"arm", "arm length, shoulder joint to elbow to wrist; +1 = +1 cm",
        &MannequinMeasurements::armLength, -10, 10},
-      {"inseam", "inseam, floor to crotch; +1 = +1 cm", &MannequinMeasurements::inseam, -15, 15},
+      {"inseam", "inseam, floor to crotch; +1 = +1 cm", &MannequinMeasurements::inseam, -10, 15},
       {"neck", "neck girth; +1 = +1 cm", &MannequinMeasurements::neck, -10, 12},
       {"thigh", "thigh girth 5 cm below the crotch; +1 = +1 cm", &MannequinMeasurements::thigh,
-       -12, 25},
+       -10, 25},
       {"upper_arm", "upper-arm girth at mid shoulder-elbow; +1 = +1 cm",
-       &MannequinMeasurements::upperArm, -8, 16},
+       &MannequinMeasurements::upperArm, -10, 16},
   }};
   return info;
 }

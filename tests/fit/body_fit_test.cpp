@@ -11,19 +11,24 @@ namespace {
 
 using test::TestPose;
 
-// The body posed with known parameters is the scan; the fit starts from the geometric pose
-// initialisation with β = 0 and must find the parameters again. The priors are made weak: with
-// them the exact parameters are the energy's minimum (the defaults bias β and θ towards 0 and
-// θ_init by a few millimetres, as intended for clothed scans).
-TEST(BodyFit, RecoversKnownParametersFromExactBody_Slow) {
-  const BodyModel& m = test::smallMannequin();
-  const BodyParams truth = test::testParams(m, TestPose::Walking, true, {0.05, 0.02, -0.1});
-  const PosedBody target = poseBody(m, truth);
+// The fit of `target` as the scan with weak priors: with them the exact parameters are the
+// energy's minimum (the defaults bias β and θ towards 0 and θ_init by a few millimetres, as
+// intended for clothed scans).
+BodyFitResult fitExactBody(const BodyModel& m, const PosedBody& target) {
   BodyFitInput in{.scan = target.mesh, .model = &m, .initial = std::nullopt};
   BodyFitOptions opt;
   opt.weights.shape = 1e-5;
   opt.weights.pose = 1e-5;
-  const BodyFitResult r = runBodyFit(in, opt);
+  return runBodyFit(in, opt);
+}
+
+// The body posed with known parameters is the scan; the fit starts from the geometric pose
+// initialisation with β = 0 and must find the parameters again.
+TEST(BodyFit, RecoversKnownParametersFromExactBody_Slow) {
+  const BodyModel& m = test::smallMannequin();
+  const BodyParams truth = test::testParams(m, TestPose::Walking, true, {0.05, 0.02, -0.1});
+  const PosedBody target = poseBody(m, truth);
+  const BodyFitResult r = fitExactBody(m, target);
   const test::JointError e = test::canonicalJointError(r.body.canonical, target.canonical);
   RecordProperty("mean_joint_error_mm", std::to_string(1000 * e.mean));
   RecordProperty("max_joint_error_mm", std::to_string(1000 * e.max));
@@ -69,11 +74,7 @@ TEST(BodyFit, RecoversAFullerBodyThanTheBase_Slow) {
   truth.shape[3] = 16.0;  // hip
   truth.pose = standardPose(m, truth.shape, StandardPose::APose);
   const PosedBody target = poseBody(m, truth);
-  BodyFitInput in{.scan = target.mesh, .model = &m, .initial = std::nullopt};
-  BodyFitOptions opt;
-  opt.weights.shape = 1e-5;
-  opt.weights.pose = 1e-5;
-  const BodyFitResult r = runBodyFit(in, opt);
+  const BodyFitResult r = fitExactBody(m, target);
   for (int s : {1, 2, 3})
     EXPECT_NEAR(r.params.shape[s], truth.shape[s], 1.5) << m.shapeParams[s].name;
   const test::JointError e = test::canonicalJointError(r.body.canonical, target.canonical);
