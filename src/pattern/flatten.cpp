@@ -464,13 +464,8 @@ int pullInBoundarySpikes(const TriMesh& panel, const std::vector<int>& boundary,
                          Eigen::MatrixX2d& uv) {
   constexpr double kSpikeRatio = 4.0;
   constexpr double kSpikeExcess = 0.002;  // m
-  const auto signedArea = [&](int f) {
-    const Eigen::Vector2d a = uv.row(panel.F(f, 0)), b = uv.row(panel.F(f, 1)),
-                          c = uv.row(panel.F(f, 2));
-    return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-  };
   double orientation = 0;  // the side the panel's faces turn to in 2D
-  for (int f = 0; f < panel.numFaces(); ++f) orientation += signedArea(f);
+  for (int f = 0; f < panel.numFaces(); ++f) orientation += signedFaceArea(uv, panel.F, f);
   const double sigma = orientation < 0 ? -1.0 : 1.0;
   std::vector<std::vector<int>> facesOf(static_cast<size_t>(panel.numVertices()));
   for (int f = 0; f < panel.numFaces(); ++f)
