@@ -181,7 +181,9 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                     {"centroid", {c.x(), c.y(), c.z()}},
                     {"span_degrees", o.span},
                     {"beside_level_m", o.besideLevel},
-                    {"edge_lowered_m", o.lowered}});
+                    {"edge_lowered_m", o.lowered},
+                    {"beside_delta_e", std::isfinite(o.besideDeltaE) ? json(o.besideDeltaE)
+                                                                     : json(nullptr)}});
   }
   return {{"segmenter", out.segmenter},
           {"held_objects", held},

@@ -34,6 +34,18 @@ double angularSpan(const Eigen::MatrixX3d& V, const std::vector<int>& vertices, 
   return (2 * M_PI - gap) * 180 / M_PI;
 }
 
+// Per-channel median of the colours of `vertices` (non-empty).
+Vec3 medianColour(const Eigen::MatrixX3d& lab, const std::vector<int>& vertices) {
+  Vec3 out;
+  std::vector<double> c(vertices.size());
+  for (int k = 0; k < 3; ++k) {
+    for (size_t i = 0; i < vertices.size(); ++i) c[i] = lab(vertices[i], k);
+    std::nth_element(c.begin(), c.begin() + static_cast<long>(c.size() / 2), c.end());
+    out[k] = c[c.size() / 2];
+  }
+  return out;
+}
+
 double nearestComponent(const GaussianMixture& g, const Vec3& lab) {
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k < g.components(); ++k)
@@ -45,10 +57,12 @@ double nearestComponent(const GaussianMixture& g, const Vec3& lab) {
 
 HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, const Vec3& axis,
                             double garmentLevel, const HeldObjectOptions& options, double ceiling,
-                            double floor) {
+                            double floor, const Eigen::MatrixX3d* lab) {
   const int nV = mesh.numVertices();
   if (offset.size() != nV)
     throw InputError(fmt::format("findHeldObjects: {} offsets for {} vertices", offset.size(), nV));
+  if (lab && lab->rows() != nV)
+    throw InputError(fmt::format("findHeldObjects: {} colours for {} vertices", lab->rows(), nV));
   const double edge =
       (std::isfinite(garmentLevel) ? std::max(garmentLevel, 0.0) : 0.0) + options.edgeMargin;
   HeldObjects out;
@@ -153,6 +167,7 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
   // garment, short of the crease for sides meeting it at a shallower angle).
   const FastMarchingDistance marching(mesh);
   std::vector<std::vector<double>> beside(out.objects.size());
+  std::vector<std::vector<int>> besideVertices(out.objects.size());
   {
     std::vector<int> objectVertices;
     for (int v = 0; v < nV; ++v)
@@ -166,9 +181,38 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
       double d2 = 0;
       const Vec3 p = mesh.V.row(v).transpose();
       objectTree.knnSearch(p.data(), 1, &idx, &d2);
-      if (d2 <= options.besideBand * options.besideBand)
+      if (d2 <= options.besideBand * options.besideBand) {
         beside[objectOf[objectVertices[idx]]].push_back(offset[v]);
+        besideVertices[objectOf[objectVertices[idx]]].push_back(v);
+      }
     }
+  }
+  if (lab) {
+    // An object in the colour of the garment it stands on is a lump of that garment: left out.
+    std::vector<std::vector<int>> own(out.objects.size());
+    for (int v = 0; v < nV; ++v)
+      if (objectOf[v] >= 0) own[objectOf[v]].push_back(v);
+    std::vector<int> keptIndex(out.objects.size(), -1);
+    std::vector<HeldObject> keptObjects;
+    std::vector<std::vector<double>> keptBeside;
+    for (size_t i = 0; i < out.objects.size(); ++i) {
+      if (!besideVertices[i].empty()) {
+        out.objects[i].besideDeltaE =
+            deltaE2000(medianColour(*lab, own[i]), medianColour(*lab, besideVertices[i]));
+        if (out.objects[i].besideDeltaE < options.sameColourDeltaE) {
+          out.garmentColoured.push_back(out.objects[i].besideDeltaE);
+          continue;
+        }
+      }
+      keptIndex[i] = static_cast<int>(keptObjects.size());
+      keptObjects.push_back(out.objects[i]);
+      keptBeside.push_back(std::move(beside[i]));
+    }
+    for (int v = 0; v < nV; ++v)
+      if (objectOf[v] >= 0) objectOf[v] = keptIndex[objectOf[v]];
+    out.objects = std::move(keptObjects);
+    beside = std::move(keptBeside);
+    if (out.objects.empty()) return out;
   }
   for (size_t i = 0; i < out.objects.size(); ++i) {
     HeldObject& o = out.objects[i];

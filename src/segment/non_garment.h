@@ -36,6 +36,12 @@ struct HeldObjectOptions {
   double reach = 0.12;
   // m: the garment within this of the object gives the level its sides stand on.
   double besideBand = 0.03;
+  // CIEDE2000: an object whose median colour lies within this of the median colour of the scan
+  // beside it is a lump or fold of the garment it stands on (a cuff where the scan's shell folded,
+  // a sleeve the fit's arm left far behind), not something held: no visible difference (CIEDE2000's
+  // just-noticeable difference is about 1–2). A black bag on a navy shirt under the same light is
+  // 5.8 apart; f2's folded cuff 0.4. Only with colours given.
+  double sameColourDeltaE = 2.0;
 };
 
 // One object found.
@@ -46,6 +52,8 @@ struct HeldObject {
   double span = 0;                                     // degrees around the body's vertical axis
   double besideLevel = 0;  // m: median offset of the garment beside it (within besideBand)
   double lowered = 0;      // m: its edge moved down its sides from the edge level to that
+  // CIEDE2000 between its median colour and the scan's beside it (NaN without colours).
+  double besideDeltaE = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct HeldObjects {
@@ -57,6 +65,8 @@ struct HeldObjects {
   int rejectedSeeds = 0;  // grown seeds spanning more than maxSpan (free-hanging garments)
   int headSeeds = 0;      // seeds reaching above the ceiling (hair)
   int footSeeds = 0;      // seeds reaching below the floor (shoes)
+  // Candidates in the colour of the scan beside them (lumps of a garment), with their ΔE.
+  std::vector<double> garmentColoured;
 };
 
 // Held objects on `mesh` (the scan, or a part of it): offset #V (m, off the body under the
@@ -66,12 +76,15 @@ struct HeldObjects {
 // region points) is the head's own volume — hair, a hat — not a held object; one reaching below
 // `floor` (m, the top of the feet's region points) is the feet's — a shoe's heel where the fit's
 // foot is short (tall_slim: heels 5 cm off a foot fitted 5 cm short, taken for a held object).
-// Throws InputError for an offset of the wrong size.
+// With `lab` (#V×3 CIELAB), a candidate in the colour of the scan beside it is a lump of that
+// garment and is left (options.sameColourDeltaE). Throws InputError for an offset or colours of
+// the wrong size.
 HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset,
                             const Eigen::Vector3d& axis, double garmentLevel,
                             const HeldObjectOptions& options = {},
                             double ceiling = std::numeric_limits<double>::infinity(),
-                            double floor = -std::numeric_limits<double>::infinity());
+                            double floor = -std::numeric_limits<double>::infinity(),
+                            const Eigen::MatrixX3d* lab = nullptr);
 
 // === Hair
 

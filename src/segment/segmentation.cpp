@@ -1288,7 +1288,12 @@ class Segmenter {
     double floor = -std::numeric_limits<double>::infinity();
     for (const Vec3& p : footPoints_) floor = std::max(floor, p.y());
     const HeldObjects held = findHeldObjects(current.mesh, current.smoothOffset, axis, level,
-                                             options_.held, chin, floor);
+                                             options_.held, chin, floor, &current.lab);
+    for (double dE : held.garmentColoured)
+      out.notes.push_back(fmt::format(
+          "a part of the scan standing more than {:.0f} mm off the body has the colour of the scan "
+          "beside it (ΔE {:.1f} < {:.1f}): a lump or fold of that garment, not a held object",
+          1000 * options_.held.seedOffset, dE, options_.held.sameColourDeltaE));
     if (held.rejectedSeeds > 0)
       out.notes.push_back(fmt::format(
           "{} part(s) of the scan more than {:.0f} mm off the body hang all around it (more than "

@@ -127,13 +127,48 @@ TEST(HeldObjects, AVolumeReachingTheFeetIsAShoeNotAnObject) {
   const HeldObjects h = findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase, {}, inf, 0.3);
   EXPECT_TRUE(h.objects.empty());
   EXPECT_EQ(h.footSeeds, 1);
-  EXPECT_EQ(
-      findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase, {}, inf, 0.1).objects.size(), 1u);
+  EXPECT_EQ(findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase, {}, inf, 0.1).objects.size(),
+            1u);
+}
+
+// The box of the first test in colours: over a navy top, a black box is a held object; a lump in
+// the top's own navy (a cuff where the scan's shell folded, f2's) is that garment, and
+// findHeldObjects says what it left (with its ΔE). Both get ±1 L* of shading.
+TEST(HeldObjects, ALumpInTheColourOfTheGarmentBesideItIsNotAnObject) {
+  const Vec3 lo(0.13, 0.45, -0.05), hi(0.235, 0.65, 0.05);
+  const Clothed c = clothed([&](const Vec3& p) { return boxDistance(p, lo, hi); });
+  const Vec3 navy = srgbToLab(Vec3(0.12, 0.16, 0.32)), black = srgbToLab(Vec3(0.10, 0.10, 0.11));
+  const auto painted = [&](const Vec3& box) {
+    Eigen::MatrixX3d lab(c.mesh.numVertices(), 3);
+    for (int v = 0; v < lab.rows(); ++v) {
+      const bool onBox = boxDistance(c.mesh.V.row(v).transpose(), lo, hi) < 0.003;
+      lab.row(v) = (onBox ? box : navy).transpose();
+      lab(v, 0) += std::sin(37.0 * v);
+    }
+    return lab;
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  const Eigen::MatrixX3d blackBox = painted(black), navyBox = painted(navy);
+  const HeldObjects bag =
+      findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase, {}, inf, -inf, &blackBox);
+  ASSERT_EQ(bag.objects.size(), 1u);
+  EXPECT_GT(bag.objects[0].besideDeltaE, HeldObjectOptions().sameColourDeltaE);
+  EXPECT_TRUE(bag.garmentColoured.empty());
+  const HeldObjects lump =
+      findHeldObjects(c.mesh, c.offset, Vec3(0, 0.5, 0), kEase, {}, inf, -inf, &navyBox);
+  EXPECT_TRUE(lump.objects.empty());
+  ASSERT_EQ(lump.garmentColoured.size(), 1u);
+  EXPECT_LT(lump.garmentColoured[0], 1.0);
+  EXPECT_LT(lump.field.maxCoeff(), 0);  // nothing to cut
 }
 
 TEST(HeldObjects, WrongOffsetSizeIsAnInputError) {
   const TriMesh m = makeIcosphere(1);
   EXPECT_THROW(findHeldObjects(m, Eigen::VectorXd::Zero(3), Vec3::Zero(), 0), InputError);
+  const Eigen::MatrixX3d lab = Eigen::MatrixX3d::Zero(3, 3);
+  EXPECT_THROW(findHeldObjects(m, Eigen::VectorXd::Zero(m.numVertices()), Vec3::Zero(), 0, {}, 1.0,
+                               0.0, &lab),
+               InputError);
 }
 
 // A neck and head: a cylinder of radius 0.06 from y = 0 to 0.3, rings 5 mm apart; hair above
