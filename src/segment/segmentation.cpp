@@ -570,6 +570,7 @@ class Segmenter {
     }
     out.faceLabel = labels.faceLabels();
     out.vertexLabel = labels.vertexLabels(scan_, out.faceLabel);
+    addRimBoundaries(out);
     if (heldReport_) {
       // The objects' edge split where the garment beside it changes (a bag over the waist).
       Eigen::VectorXi beside = out.vertexLabel;
@@ -791,6 +792,102 @@ class Segmenter {
                       out.upperLowerDeltaE));
     }
     if (!out.shoes) out.notes.push_back("no shoes: the feet have the colour of the skin");
+  }
+
+  // A garment that ends in an open rim of the scan around a piece of skin: the hem of a skirt
+  // whose legs the scanner made a piece of their own (issue 17) is where the skirt's piece stops,
+  // not an isoline, and the legs pass through it. Such a rim (long, all its faces one garment's,
+  // another piece's skin crossing the plane inside it) is reported as that garment's boundary
+  // with the skin, beside its isolines. A hole where no camera looked has no other piece in it.
+  void addRimBoundaries(Segmentation& out) const {
+    constexpr double kMinRim = 0.2;       // m: shorter open loops are holes, not hems
+    // Skin of another piece inside the rim's outline and within a tenth of the height of its
+    // plane passes through it (legs scanned apart start where the cameras stopped seeing under the
+    // hem, a few cm below it; a hole in a garment has no other piece inside it at any distance).
+    const double planeBand = 0.1 * height_;
+    constexpr int kMinCrossing = 5;  // such skin vertices
+    const MeshTopology topo(scan_.F, scan_.numVertices());
+    if (topo.numComponents() < 2 || topo.boundaryLoops().empty()) return;
+    std::vector<int> vertexPiece(scan_.numVertices(), -1);
+    for (int f = 0; f < scan_.numFaces(); ++f)
+      for (int k = 0; k < 3; ++k) vertexPiece[scan_.F(f, k)] = topo.faceComponent()[f];
+    for (const std::vector<int>& loop : topo.boundaryLoops()) {
+      const int n = static_cast<int>(loop.size());
+      if (n < 3) continue;
+      double length = 0;
+      std::array<int, kNumLabels> faces{};
+      for (int i = 0; i < n; ++i) {
+        const int a = loop[i], b = loop[(i + 1) % n];
+        length += (scan_.V.row(a) - scan_.V.row(b)).norm();
+        const int e = topo.findEdge(a, b);
+        if (e < 0) continue;
+        for (int f : topo.edgeFaces(e)) ++faces[out.faceLabel[f]];
+      }
+      const int g = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
+      if (length < kMinRim || (g != static_cast<int>(Label::Upper) &&
+                               g != static_cast<int>(Label::Lower)))
+        continue;
+      if (faces[g] < 0.9 * n) continue;
+      // The rim's plane and its outline in it.
+      Vec3 c = Vec3::Zero();
+      for (int v : loop) c += scan_.V.row(v).transpose();
+      c /= n;
+      Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+      for (int v : loop) {
+        const Vec3 d = scan_.V.row(v).transpose() - c;
+        C += d * d.transpose();
+      }
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+      const Vec3 normal = eig.eigenvectors().col(0), u = eig.eigenvectors().col(2),
+                 w = eig.eigenvectors().col(1);
+      std::vector<Eigen::Vector2d> outline;
+      for (int v : loop) {
+        const Vec3 d = scan_.V.row(v).transpose() - c;
+        outline.emplace_back(d.dot(u), d.dot(w));
+      }
+      const auto inside = [&](const Eigen::Vector2d& q) {
+        bool in = false;
+        for (size_t i = 0, j = outline.size() - 1; i < outline.size(); j = i++) {
+          const Eigen::Vector2d &a = outline[i], &b = outline[j];
+          if ((a.y() > q.y()) != (b.y() > q.y()) &&
+              q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x())
+            in = !in;
+        }
+        return in;
+      };
+      const int piece = vertexPiece[loop[0]];
+      int crossing = 0;
+      for (int v = 0; v < scan_.numVertices() && crossing < kMinCrossing; ++v) {
+        if (vertexPiece[v] == piece || out.vertexLabel[v] != static_cast<int>(Label::Skin))
+          continue;
+        const Vec3 d = scan_.V.row(v).transpose() - c;
+        if (std::abs(d.dot(normal)) < planeBand && inside({d.dot(u), d.dot(w)})) ++crossing;
+      }
+      if (crossing < kMinCrossing) continue;
+      Eigen::MatrixX3d P(n, 3);
+      for (int i = 0; i < n; ++i) P.row(i) = scan_.V.row(loop[i]);
+      const Label garment = static_cast<Label>(g);
+      auto report = std::find_if(out.boundaries.begin(), out.boundaries.end(),
+                                 [&](const BoundaryReport& b) {
+                                   return b.garment == garment && b.other == Label::Skin;
+                                 });
+      if (report == out.boundaries.end()) {
+        BoundaryReport rim;
+        rim.name = garment == Label::Upper ? "U|S" : "L|S";
+        rim.garment = garment;
+        rim.converged = true;
+        out.boundaries.push_back(rim);
+        report = out.boundaries.end() - 1;
+      }
+      report->finalCurves.push_back(P);
+      report->finalClosed.push_back(true);
+      report->otherLabels.push_back(Label::Skin);
+      out.notes.push_back(fmt::format(
+          "the {} garment ends in an open rim of the scan ({:.2f} m round) that a separate piece "
+          "of skin passes through (legs under a skirt the scanner did not join to it): the rim is "
+          "its boundary with the skin",
+          garment == Label::Upper ? "upper" : "lower", length));
+    }
   }
 
   // Per-vertex skin or shoes on the cut-away feet: the nearer model in CIEDE2000 (to the closest

@@ -165,6 +165,25 @@ TEST(Segmentation, LongSkirtHemLeavesTheGapCap_Slow) {
   EXPECT_TRUE(found);
 }
 
+// A skirt whose legs the scanner made a piece of their own (issue 17): the skirt ends in an open
+// rim of the scan and the legs pass through it. The rim is the skirt's boundary with the skin;
+// B(L|S)'s isolines alone left only fragments of it (skin|lower 127 mm mean from the truth, its
+// predicted curves 2 % of the true length).
+TEST(Segmentation, ASkirtsOpenRimAroundTheLegsPieceIsItsHem_Slow) {
+  const Case& c = synthCase("skirt_legs_piece", 30000);
+  const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh,
+                                       c.body.posed.mesh, c.body.features);
+  bool found = false;
+  for (const BoundaryScore& b : score(c, seg).boundaries)
+    if (b.a == Label::Skin && b.b == Label::Lower && !b.missing) {
+      found = true;
+      EXPECT_LT(b.pooled.mean, 0.005);
+      EXPECT_LT(b.pooled.p95, 0.015);
+      EXPECT_GT(b.roughness, 0.9);  // the whole hem, not fragments
+    }
+  EXPECT_TRUE(found);
+}
+
 // The scan with every vertex of one label painted in the skin's own colours (a bare torso or
 // bare legs where the generator put a garment): the region colour matches the skin.
 Eigen::MatrixX3d paintedAsSkin(const Case& c, Label label) {
