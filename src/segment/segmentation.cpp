@@ -800,7 +800,7 @@ class Segmenter {
   // another piece's skin crossing the plane inside it) is reported as that garment's boundary
   // with the skin, beside its isolines. A hole where no camera looked has no other piece in it.
   void addRimBoundaries(Segmentation& out) const {
-    constexpr double kMinRim = 0.2;       // m: shorter open loops are holes, not hems
+    constexpr double kMinRim = 0.2;  // m: shorter open loops are holes, not hems
     // Skin of another piece inside the rim's outline and within a tenth of the height of its
     // plane passes through it (legs scanned apart start where the cameras stopped seeing under the
     // hem, a few cm below it; a hole in a garment has no other piece inside it at any distance).
@@ -824,8 +824,8 @@ class Segmenter {
         for (int f : topo.edgeFaces(e)) ++faces[out.faceLabel[f]];
       }
       const int g = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
-      if (length < kMinRim || (g != static_cast<int>(Label::Upper) &&
-                               g != static_cast<int>(Label::Lower)))
+      if (length < kMinRim ||
+          (g != static_cast<int>(Label::Upper) && g != static_cast<int>(Label::Lower)))
         continue;
       if (faces[g] < 0.9 * n) continue;
       // The rim's plane and its outline in it.
@@ -867,10 +867,9 @@ class Segmenter {
       Eigen::MatrixX3d P(n, 3);
       for (int i = 0; i < n; ++i) P.row(i) = scan_.V.row(loop[i]);
       const Label garment = static_cast<Label>(g);
-      auto report = std::find_if(out.boundaries.begin(), out.boundaries.end(),
-                                 [&](const BoundaryReport& b) {
-                                   return b.garment == garment && b.other == Label::Skin;
-                                 });
+      auto report = std::find_if(
+          out.boundaries.begin(), out.boundaries.end(),
+          [&](const BoundaryReport& b) { return b.garment == garment && b.other == Label::Skin; });
       if (report == out.boundaries.end()) {
         BoundaryReport rim;
         rim.name = garment == Label::Upper ? "U|S" : "L|S";
