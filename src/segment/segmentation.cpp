@@ -821,7 +821,8 @@ class Segmenter {
         length += (scan_.V.row(a) - scan_.V.row(b)).norm();
         const int e = topo.findEdge(a, b);
         if (e < 0) continue;
-        for (int f : topo.edgeFaces(e)) ++faces[out.faceLabel[f]];
+        for (int f : topo.edgeFaces(e))
+          if (out.faceLabel[f] >= 0 && out.faceLabel[f] < kNumLabels) ++faces[out.faceLabel[f]];
       }
       const int g = static_cast<int>(std::max_element(faces.begin(), faces.end()) - faces.begin());
       if (length < kMinRim ||
