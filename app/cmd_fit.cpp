@@ -221,7 +221,8 @@ struct FitSuiteCommand {
 };
 
 // The drape columns of a fit-suite row: status, per garment draped-vs-scanned mean / p95 mm and
-// how far its top hangs below the scanned top (mm), self-intersections and penetrations (GarmentCode's gates), seconds; the figures into row.
+// how far its top hangs below the scanned top (mm), self-intersections and penetrations
+// (GarmentCode's gates), seconds; the figures into row.
 std::string drapeColumns(const RunOutput& run, const fs::path& outDir, json& row) {
   writeDrape(outDir / "drape", run);
   row["drape"] = drapeToJson(run);

@@ -527,7 +527,7 @@ int pullInBoundarySpikes(const TriMesh& panel, const std::vector<int>& boundary,
   return moved;
 }
 
-
+// === Grain alignment
 
 Eigen::MatrixX2d alignToGrain(const TriMesh& panel, const Eigen::Vector3d& grain,
                               const Eigen::MatrixX2d& uv) {

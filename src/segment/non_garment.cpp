@@ -165,7 +165,6 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
   // own level by as much as one walks up the side, so the edge found at `edge` lies edge − level
   // up the side, and is moved down by that geodesic distance (exact for sides square on the
   // garment, short of the crease for sides meeting it at a shallower angle).
-  const FastMarchingDistance marching(mesh);
   std::vector<std::vector<double>> beside(out.objects.size());
   std::vector<std::vector<int>> besideVertices(out.objects.size());
   {
@@ -214,6 +213,7 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
     beside = std::move(keptBeside);
     if (out.objects.empty()) return out;
   }
+  const FastMarchingDistance marching(mesh);
   for (size_t i = 0; i < out.objects.size(); ++i) {
     HeldObject& o = out.objects[i];
     if (o.area > 0) o.centroid /= o.area;

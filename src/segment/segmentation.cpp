@@ -264,6 +264,23 @@ std::vector<Eigen::MatrixX3d> curvePolylines(const Isoline& iso, std::vector<boo
   return out;
 }
 
+// The least-squares plane through `points` (≥ 3): their centroid and the principal axes, column 0
+// the normal (smallest spread), column 2 the longest direction.
+struct FittedPlane {
+  Vec3 centre = Vec3::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Vec3 normal() const { return axes.col(0); }
+};
+FittedPlane fitPlane(const std::vector<Vec3>& points) {
+  FittedPlane plane;
+  for (const Vec3& p : points) plane.centre += p;
+  plane.centre /= static_cast<double>(points.size());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : points) C += (p - plane.centre) * (p - plane.centre).transpose();
+  plane.axes = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvectors();
+  return plane;
+}
+
 // Eq. (5): φ_dn(u) = max(2(|o·n_u| − ½), 0) with o the normal of the plane fitted to the
 // boundary curve nearest to u (one plane per loop: two ankle loops of a walking pose are not
 // coplanar). Only vertices within `band` metres of the boundary get it.
@@ -272,14 +289,11 @@ Eigen::VectorXd normalDisplacement(const TriMesh& mesh, const Isoline& boundary,
   std::vector<Vec3> centroid, normal;
   for (const IsolineCurve& c : boundary.curves) {
     if (c.points.size() < 3) continue;
-    Vec3 m = Vec3::Zero();
-    for (const IsolinePoint& p : c.points) m += p.position;
-    m /= static_cast<double>(c.points.size());
-    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-    for (const IsolinePoint& p : c.points) C += (p.position - m) * (p.position - m).transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
-    centroid.push_back(m);
-    normal.push_back(eig.eigenvectors().col(0));  // smallest eigenvalue: the plane normal
+    std::vector<Vec3> points;
+    for (const IsolinePoint& p : c.points) points.push_back(p.position);
+    const FittedPlane plane = fitPlane(points);
+    centroid.push_back(plane.centre);
+    normal.push_back(plane.normal());
   }
   Eigen::VectorXd out = Eigen::VectorXd::Zero(mesh.numVertices());
   if (centroid.empty()) return out;
@@ -830,22 +844,13 @@ class Segmenter {
         continue;
       if (faces[g] < 0.9 * n) continue;
       // The rim's plane and its outline in it.
-      Vec3 c = Vec3::Zero();
-      for (int v : loop) c += scan_.V.row(v).transpose();
-      c /= n;
-      Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-      for (int v : loop) {
-        const Vec3 d = scan_.V.row(v).transpose() - c;
-        C += d * d.transpose();
-      }
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
-      const Vec3 normal = eig.eigenvectors().col(0), u = eig.eigenvectors().col(2),
-                 w = eig.eigenvectors().col(1);
+      std::vector<Vec3> rim;
+      for (int v : loop) rim.push_back(scan_.V.row(v).transpose());
+      const FittedPlane plane = fitPlane(rim);
+      const Vec3 &c = plane.centre, normal = plane.normal(), u = plane.axes.col(2),
+                 w = plane.axes.col(1);
       std::vector<Eigen::Vector2d> outline;
-      for (int v : loop) {
-        const Vec3 d = scan_.V.row(v).transpose() - c;
-        outline.emplace_back(d.dot(u), d.dot(w));
-      }
+      for (const Vec3& p : rim) outline.emplace_back((p - c).dot(u), (p - c).dot(w));
       const auto inside = [&](const Eigen::Vector2d& q) {
         bool in = false;
         for (size_t i = 0, j = outline.size() - 1; i < outline.size(); j = i++) {
@@ -866,7 +871,7 @@ class Segmenter {
       }
       if (crossing < kMinCrossing) continue;
       Eigen::MatrixX3d P(n, 3);
-      for (int i = 0; i < n; ++i) P.row(i) = scan_.V.row(loop[i]);
+      for (int i = 0; i < n; ++i) P.row(i) = rim[i].transpose();
       const Label garment = static_cast<Label>(g);
       auto report = std::find_if(
           out.boundaries.begin(), out.boundaries.end(),
@@ -884,8 +889,8 @@ class Segmenter {
       report->otherLabels.push_back(Label::Skin);
       out.notes.push_back(fmt::format(
           "the {} garment ends in an open rim of the scan ({:.2f} m round) that a separate piece "
-          "of skin passes through (legs under a skirt the scanner did not join to it): the rim is "
-          "its boundary with the skin",
+          "of skin passes through (such as legs under a skirt the scanner did not join to it): "
+          "the rim is its boundary with the skin",
           garment == Label::Upper ? "upper" : "lower", length));
     }
   }
