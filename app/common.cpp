@@ -286,6 +286,12 @@ void addPatternOptions(CLI::App* cmd, PatternOptions& pattern) {
       "Length of the filter that takes the scanner's noise out of each garment panel before "
       "it is flattened, mm (default 5; 0: flatten the scan as it is). Noise makes every scanned "
       "edge longer than the cloth, and so the pattern too big");
+  cmd->add_flag_callback(
+      "--keep-fused-contacts", [&pattern] { pattern.panels.openFusedContacts = false; },
+      "Leave a sleeve the scan fused to the trunk below the armpit (an arm hanging against the "
+      "side) as the scan shows it: the armhole then runs down the crease. By default the contact "
+      "is opened and the cloth it hid (the sleeve's underside, the side under the arm) is "
+      "supplied, and panels.json says so");
 }
 
 void addPrintOptions(CLI::App* cmd, PrintOptions& print) {

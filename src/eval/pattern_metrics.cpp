@@ -6,7 +6,6 @@
 #include <limits>
 #include <map>
 
-#include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 
 namespace s2p {
@@ -19,20 +18,6 @@ double maxAbs(const std::vector<std::pair<std::string, double>>& v) {
   double m = 0;
   for (const auto& [name, x] : v) m = std::max(m, std::abs(x));
   return m;
-}
-
-// Number of times the ray o + t·d (t ∈ (0, reach]) crosses the mesh.
-int crossings(const MeshQuery& q, Vec3 o, const Vec3& d, double reach) {
-  int n = 0;
-  double travelled = 0;
-  for (int guard = 0; guard < 32; ++guard) {
-    const auto hit = q.rayCast(o, d, 1e-5, reach - travelled);
-    if (!hit) break;
-    ++n;
-    travelled += hit->t + 1e-5;
-    o = hit->point + 1e-5 * d;
-  }
-  return n;
 }
 
 bool isDisk(const TriMesh& m) {
@@ -51,20 +36,6 @@ const Panel* panelNamed(const PanelsResult& r, const GarmentPanels& g, const std
 double PatternScore::maxMirrorAreaDiff() const { return maxAbs(mirrorAreaDiff); }
 double PatternScore::maxArmholeToArmpit() const { return maxAbs(armholeToArmpit); }
 double PatternScore::maxSideSeamAngle() const { return maxAbs(sideSeamAngle); }
-
-double armpitHeight(const TriMesh& body, const BodyFrame& frame, bool left) {
-  const MeshQuery q(body);
-  const Canonical sc = left ? Canonical::LeftShoulder : Canonical::RightShoulder;
-  const Vec3 shoulder = frame.at(sc);
-  const double top = frame.height(shoulder);
-  const Vec3 d = left ? frame.left() : Vec3(-frame.left());
-  const Vec3 base = frame.at(Canonical::Pelvis) + frame.frontal(shoulder) * frame.front();
-  for (double h = top; h > top - 0.35; h -= 0.002) {
-    const Vec3 o = base + h * frame.up();
-    if (crossings(q, o, d, 1.5) >= 3) return h;
-  }
-  return std::numeric_limits<double>::quiet_NaN();
-}
 
 PatternScore scorePattern(const PanelsResult& r, const Truth& truth, const TriMesh& body,
                           const Eigen::MatrixX3d& canonical) {

@@ -39,11 +39,6 @@ struct PatternScore {
   double maxSideSeamAngle() const;
 };
 
-// The height (along the body's up axis from the pelvis, m) of the armpit on one side of a closed
-// body mesh: the highest level at which a horizontal ray outwards in the shoulder's coronal
-// plane leaves the torso and then crosses the arm. NaN when no level below the shoulder does.
-double armpitHeight(const TriMesh& body, const BodyFrame& frame, bool left);
-
 // Scores `r` against the truth's garments (matched by label: the upper, lower or one-piece
 // garment with the largest visible area). body: the posed fitted body (closed); canonical its
 // canonical points.

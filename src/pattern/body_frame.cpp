@@ -12,8 +12,42 @@
 #include <Eigen/SparseCore>
 
 #include "core/error.h"
+#include "core/mesh_query.h"
 
 namespace s2p {
+
+namespace {
+
+// Number of times the ray o + t·d (t ∈ (0, reach]) crosses the mesh.
+int crossings(const MeshQuery& q, Eigen::Vector3d o, const Eigen::Vector3d& d, double reach) {
+  int n = 0;
+  double travelled = 0;
+  for (int guard = 0; guard < 32; ++guard) {
+    const auto hit = q.rayCast(o, d, 1e-5, reach - travelled);
+    if (!hit) break;
+    ++n;
+    travelled += hit->t + 1e-5;
+    o = hit->point + 1e-5 * d;
+  }
+  return n;
+}
+
+}  // namespace
+
+double armpitHeight(const TriMesh& body, const BodyFrame& frame, bool left) {
+  const MeshQuery q(body);
+  const Canonical sc = left ? Canonical::LeftShoulder : Canonical::RightShoulder;
+  const Eigen::Vector3d shoulder = frame.at(sc);
+  const double top = frame.height(shoulder);
+  const Eigen::Vector3d d = left ? frame.left() : Eigen::Vector3d(-frame.left());
+  const Eigen::Vector3d base =
+      frame.at(Canonical::Pelvis) + frame.frontal(shoulder) * frame.front();
+  for (double h = top; h > top - 0.35; h -= 0.002) {
+    const Eigen::Vector3d o = base + h * frame.up();
+    if (crossings(q, o, d, 1.5) >= 3) return h;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
 
 const char* toString(Limb limb) {
   switch (limb) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "body/body_model.h"
+#include "core/tri_mesh.h"
 
 namespace s2p {
 
@@ -46,6 +47,12 @@ class BodyFrame {
   Eigen::MatrixX3d canonical_;
   Eigen::Vector3d up_, left_, front_;
 };
+
+// The height (along the body's up axis from the pelvis, m) of the armpit on one side of a closed
+// body mesh: the highest level at which a horizontal ray outwards in the shoulder's coronal
+// plane leaves the torso and then crosses the arm (below it arm and torso are apart). NaN when
+// no level below the shoulder does.
+double armpitHeight(const TriMesh& body, const BodyFrame& frame, bool left);
 
 // Which limb each vertex of the model belongs to, by its skinning weights: #V×6, column
 // static_cast<int>(Limb), the vertex's weights summed over the limb's joints (an arm: its shoulder

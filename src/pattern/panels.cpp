@@ -17,6 +17,7 @@
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
 #include "core/shapes.h"
+#include "pattern/contact_opening.h"
 #include "segment/mesh_cut.h"
 
 namespace s2p {
@@ -247,6 +248,7 @@ class GarmentPanelizer {
     gp.seams = seams ? std::move(*seams)
                      : estimateSeams(mesh, garment_.kind, in_.body, in_.features, gp.openings,
                                      options_.seams, in_.bodyLimbWeight);
+    if (!seams && options_.openFusedContacts) openContacts(gp);
     for (const SeamLine& s : gp.seams)
       if (!s.kept)
         gp.notes.push_back(fmt::format("seam '{}' removed: {}", s.name, s.removedWhy));
@@ -260,6 +262,7 @@ class GarmentPanelizer {
     seamed_ = insertSeams(mesh, gp.seams);
     topo_ = std::make_unique<MeshTopology>(seamed_.mesh.F, seamed_.mesh.numVertices());
     if (seamed_.seams.empty()) {
+      const MeshTopology topo(mesh.F, mesh.numVertices());  // of the garment as completed
       const bool disk = topo.boundaryLoops().size() == 1 && topo.eulerCharacteristic() == 1;
       std::string why;  // each seam's reason, so the user sees which feature failed
       for (const SeamLine& s : gp.seams) why += fmt::format("; {}: {}", s.name, s.removedWhy);
@@ -282,10 +285,51 @@ class GarmentPanelizer {
   }
 
  private:
-  // Says, per arm, how much of the armhole seam follows a fold where the scan fused the sleeve
-  // to the trunk (armholeFolds): there the seam cannot pass under the arm at the armpit.
+  // Where the scan fused a sleeve to the trunk below the armpit, opens the contact and supplies
+  // the hidden cloth (openFusedContacts), then finds the openings and seams again on the
+  // completed garment. A completed garment whose seams cannot be found is not used.
+  void openContacts(GarmentPanels& gp) {
+    const auto armhole = std::find_if(gp.seams.begin(), gp.seams.end(), [](const SeamLine& s) {
+      return s.kind == SeamKind::Armhole && s.kept;
+    });
+    if (armhole == gp.seams.end()) return;
+    ContactOpening c = openFusedContacts(garment_.mesh, garment_.faceOrigin, *armhole, in_.body,
+                                         frame_, options_.seams, options_.contacts);
+    for (const std::string& note : c.notes) gp.notes.push_back(note);
+    if (c.opened.empty()) return;
+    try {
+      const MeshTopology topo(c.mesh.F, c.mesh.numVertices());
+      std::vector<Opening> openings = classifyOpenings(c.mesh, topo, garment_.kind, frame_);
+      std::vector<SeamLine> seams =
+          estimateSeams(c.mesh, garment_.kind, in_.body, in_.features, openings, options_.seams,
+                        in_.bodyLimbWeight, c.hints);
+      gp.openings = std::move(openings);
+      gp.seams = std::move(seams);
+    } catch (const Error& e) {
+      gp.notes.push_back(fmt::format(
+          "the contact(s) under the arm were opened but the seams of the completed garment "
+          "could not be found ({}); left fused",
+          e.what()));
+      return;
+    }
+    garment_.mesh = std::move(c.mesh);
+    garment_.faceOrigin = std::move(c.faceOrigin);
+    for (const OpenedContact& o : c.opened)
+      gp.notes.push_back(fmt::format(
+          "{} armhole: the scan fused sleeve and trunk below the armpit along a crease {:.0f} mm "
+          "long, {:.0f} mm deep; the contact was opened and the cloth it hid supplied ({:.4f} m² "
+          "of the sleeve's underside, {:.4f} m² of the side under the arm, joined along {:.0f} mm "
+          "under the arm), so the armhole passes under the arm",
+          o.side, 1000 * o.creaseLength, 1000 * o.drop, o.sleeveArea, o.trunkArea,
+          1000 * o.topWidth));
+  }
+
+  // Says, per arm, how much of the armhole seam follows a fold below the body's armpit where the
+  // scan fused the sleeve to the trunk (armholeFolds) and the contact was left fused: there the
+  // seam cannot pass under the arm at the armpit. (Above the armpit a fold is the arm's root.)
   void noteFolds(const TriMesh& mesh, const SeamLine& armhole, GarmentPanels& gp) const {
     const std::vector<SeamFold> folds = armholeFolds(mesh, armhole, options_.seams);
+    if (folds.empty()) return;
     for (const char* side : {"left", "right"}) {
       double length = 0, top = -std::numeric_limits<double>::infinity(),
              low = std::numeric_limits<double>::infinity();
@@ -297,11 +341,13 @@ class GarmentPanelizer {
           low = std::min(low, frame_.height(p));
         }
       }
+      const double armpit = armpitHeight(in_.body, frame_, std::string(side) == "left");
+      if (std::isfinite(armpit)) top = std::min(top, armpit);
       if (length == 0 || top - low < options_.seams.creaseReportDrop) continue;
       gp.notes.push_back(fmt::format(
-          "{} armhole: {:.0f} mm of it follow a fold down {:.0f} mm: the scan fused sleeve and "
-          "trunk there (the sleeve's underside and the side under the arm are hidden in the "
-          "contact), so the seam runs down the crease, not under the arm",
+          "{} armhole: {:.0f} mm of it follow a fold down {:.0f} mm below the armpit: the scan "
+          "fused sleeve and trunk there (the sleeve's underside and the side under the arm are "
+          "hidden in the contact), so the seam runs down the crease, not under the arm",
           side, 1000 * length, 1000 * (top - low)));
     }
   }
@@ -724,7 +770,7 @@ class GarmentPanelizer {
   }
 
   const PanelsInput& in_;
-  const PanelsInput::Garment& garment_;
+  PanelsInput::Garment garment_;  // a copy: openContacts may complete it
   int index_;
   const BodyFrame& frame_;
   const PanelOptions& options_;

@@ -19,6 +19,7 @@
 
 #include "body/features.h"
 #include "core/tri_mesh.h"
+#include "pattern/contact_opening.h"
 #include "pattern/seam_lines.h"
 
 namespace s2p {
@@ -85,6 +86,11 @@ struct PanelOptions {
   // about 9 cm, half a wrist's girth) lets nothing through: it is a hole of the scan (a scrap of
   // leg left on a skirt's hem, a gap between fused fingers), filled, never an opening.
   double minOpeningFraction = 0.06;
+  // Where the scan fused a sleeve to the trunk below the armpit (an arm hanging against the
+  // side), open the contact and supply the cloth it hid before the seams are found
+  // (pattern/contact_opening.h); false: the seams follow the crease, as the scan shows it.
+  bool openFusedContacts = true;
+  ContactOpeningOptions contacts;
 };
 
 struct PanelsResult {

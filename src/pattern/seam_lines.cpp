@@ -388,8 +388,8 @@ namespace {
 // The seams of estimateSeams on `garment` itself.
 std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
                                   const FeatureSet& features, const std::vector<Opening>& openings,
-                                  const SeamOptions& options,
-                                  const Eigen::MatrixXd& bodyLimbWeight) {
+                                  const SeamOptions& options, const Eigen::MatrixXd& bodyLimbWeight,
+                                  const std::vector<ArmholeHint>& armholeHints) {
   ProjectionOptions popt = options.projection;
   const BoundingBox bb = boundingBox(body.V);
   popt.bodyLength = std::max(bb.extent().maxCoeff(), 1e-3);
@@ -546,6 +546,11 @@ std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, cons
           addLoopConstraints(topo, garment, trunkPart, options.boundaryConstraintSpacing, +1.0,
                              signs);
         }
+    if (kind_ == SeamKind::Armhole && !zeros.empty())
+      for (const ArmholeHint& h : armholeHints) {
+        const ClosestHit c = query.closestPoint(h.position);
+        signs.push_back({SurfacePoint{c.face, c.bary}, h.value});
+      }
     if (kind_ == SeamKind::Armhole && !zeros.empty() && bodyLimbWeight.rows() > 0 &&
         options.partMaxDistance > 0)
       addBodyPartConstraints(garment, topo, body, bodyLimbWeight, sleeved, prior, popt.bodyLength,
@@ -631,7 +636,8 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
                                     const FeatureSet& features,
                                     const std::vector<Opening>& openings,
                                     const SeamOptions& options,
-                                    const Eigen::MatrixXd& bodyLimbWeight) {
+                                    const Eigen::MatrixXd& bodyLimbWeight,
+                                    const std::vector<ArmholeHint>& armholeHints) {
   validateMesh(garment, "garment");
   if (bodyLimbWeight.rows() > 0 && (bodyLimbWeight.rows() != body.numVertices() ||
                                     bodyLimbWeight.cols() != 6 || !bodyLimbWeight.allFinite()))
@@ -641,10 +647,13 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
                     bodyLimbWeight.rows(), bodyLimbWeight.cols(), body.numVertices()));
   const std::optional<CoarseMesh> copy =
       options.coarseVertices > 0 ? decimatedCopy(garment, options.coarseVertices) : std::nullopt;
-  if (!copy) return seamsOnMesh(garment, kind, body, features, openings, options, bodyLimbWeight);
+  if (!copy)
+    return seamsOnMesh(garment, kind, body, features, openings, options, bodyLimbWeight,
+                       armholeHints);
   std::vector<SeamLine> seams =
       seamsOnMesh(copy->mesh, kind, body, features,
-                  openingsOnCopy(openings, *copy, garment.numVertices()), options, bodyLimbWeight);
+                  openingsOnCopy(openings, *copy, garment.numVertices()), options, bodyLimbWeight,
+                  armholeHints);
   const CoarseToFine map(copy->mesh, garment);
   const MeshTopology topo(garment.F, garment.numVertices());
   for (SeamLine& seam : seams) {

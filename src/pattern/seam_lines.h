@@ -151,17 +151,26 @@ struct SeamLine {
   double seconds = 0;
 };
 
+// A point known to lie on one side of the armhole seam, as a position on the garment: cloth
+// supplied where a contact hid it (pattern/contact_opening.h), the sleeve's underside −1 and the
+// side under the arm +1. It holds the armhole function there as a sign point does.
+struct ArmholeHint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double value = 0;
+};
+
 // The seams of one garment (mesh in the body's frame, consistently oriented), in the order they
 // are applied: FrontBack, Armhole, LeftRight (those that do not apply to the kind are absent).
 // body: the posed fully fitted body carrying `features`; bodyLimbWeight: #V of body × 6, its
 // vertices' skinning weights per Limb (limbWeights), or empty: no body-part constraints on the
-// armhole function. Throws InputError for an empty garment, a body that does not overlap it, or
-// a bodyLimbWeight of the wrong shape.
+// armhole function; armholeHints: more of its sign points (ArmholeHint). Throws InputError for
+// an empty garment, a body that does not overlap it, or a bodyLimbWeight of the wrong shape.
 std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
                                     const FeatureSet& features,
                                     const std::vector<Opening>& openings,
                                     const SeamOptions& options = {},
-                                    const Eigen::MatrixXd& bodyLimbWeight = Eigen::MatrixXd());
+                                    const Eigen::MatrixXd& bodyLimbWeight = Eigen::MatrixXd(),
+                                    const std::vector<ArmholeHint>& armholeHints = {});
 
 // One stretch of an armhole seam's isoline that runs along a fold (SeamOptions::creaseRadius).
 struct SeamFold {

@@ -40,7 +40,7 @@ std::map<std::string, double> lowestEdges(const PanelsResult& r, const BodyFrame
   return low;
 }
 
-PatternRun patternOf(const SynthCase& c) {
+PatternRun patternOf(const SynthCase& c, const PanelOptions& options = {}) {
   PatternRun r;
   r.seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, c.body.posed.mesh, c.body.features);
   PanelsInput in;
@@ -53,7 +53,7 @@ PatternRun patternOf(const SynthCase& c) {
   in.body = c.body.posed.mesh;
   in.features = c.body.features;
   in.canonical = c.body.posed.canonical;
-  r.panels = runPanels(in);
+  r.panels = runPanels(in, options);
   r.score = scorePattern(r.panels, c.scan.truth, in.body, in.canonical);
   return r;
 }
@@ -90,25 +90,32 @@ TEST(Panels, ASkirtLosesItsCrotchSeamAndATopWithoutSleevesItsArmholes_Slow) {
 }
 
 // Arms lowered to 18° from the body: a t-shirt's sleeve hangs against the torso's side, and the
-// scan joins them from the cuff up to the armpit, so the only surface between the sleeve and the
-// trunk there runs along the cuff's inner edge. The sleeve's side of the armhole function had
-// crept 25 cm down the torso; the armhole's lowest point must lie within 3 cm of the armpit, or of
-// the cuff's lowest point where that is lower.
-TEST(Panels, LoweredArmsKeepTheArmholeAtTheArmpitOrTheCuff_Slow) {
+// scan joins them along a crease from the cuff up to the armpit, hiding the sleeve's underside
+// and the side under the arm. Every seam that parts sleeve from trunk on that surface runs down
+// the crease (the armhole's lowest point 11–12 cm below the armpit); with the contact opened and
+// the hidden cloth supplied (pattern/contact_opening.h) the armhole passes under the arm: its
+// lowest point within 3 cm of the fitted body's armpit on both sides, as the issue asks.
+TEST(Panels, LoweredArmsKeepTheArmholeAtTheArmpit_Slow) {
   const SynthCase& c = synthCase("arms_down", 8000);
-  const PatternRun r = patternOf(c);
-  expectSound(r.score);
   const BodyFrame frame(c.body.posed.canonical);
-  const std::map<std::string, double> armholes = lowestEdges(r.panels, frame, "_armhole");
-  const std::map<std::string, double> cuffs = lowestEdges(r.panels, frame, "_cuff");
-  ASSERT_EQ(armholes.size(), 2u);
-  for (const auto& [name, low] : armholes) {
-    const std::string side = name.substr(0, name.find('_'));
-    const double armpit = armpitHeight(c.body.posed.mesh, frame, side == "left");
-    ASSERT_TRUE(cuffs.count(side + "_cuff")) << side;
-    const double floor = std::min(armpit, cuffs.at(side + "_cuff"));
-    EXPECT_GT(low, floor - 0.03) << name << ": armpit " << armpit << ", cuff "
-                                 << cuffs.at(side + "_cuff");
+  const auto lowestArmholes = [&](bool open) {
+    PanelOptions options;
+    options.openFusedContacts = open;
+    const PatternRun r = patternOf(c, options);
+    expectSound(r.score);
+    std::map<std::string, double> below;  // armpit − the armhole's lowest point, per side
+    for (const auto& [name, low] : lowestEdges(r.panels, frame, "_armhole")) {
+      const std::string side = name.substr(0, name.find('_'));
+      below[side] = armpitHeight(c.body.posed.mesh, frame, side == "left") - low;
+    }
+    return below;
+  };
+  const std::map<std::string, double> fused = lowestArmholes(false), opened = lowestArmholes(true);
+  ASSERT_EQ(fused.size(), 2u);
+  ASSERT_EQ(opened.size(), 2u);
+  for (const auto& [side, d] : opened) {
+    EXPECT_GT(fused.at(side), 0.06) << side << ": the fused crease reaches this far down";
+    EXPECT_LT(std::abs(d), 0.03) << side << " armhole, " << fused.at(side) << " m when fused";
   }
 }
 
