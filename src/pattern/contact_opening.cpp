@@ -2,19 +2,15 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <optional>
 
-#include "core/error.h"
-#include "core/laplacian.h"
 #include "core/mesh_topology.h"
 #include "pattern/body_frame.h"
-#include "pattern/remesh.h"
+#include "pattern/loop_fill.h"
 #include "segment/mesh_cut.h"
 
 namespace s2p {
@@ -68,99 +64,6 @@ struct Crease {
   std::vector<int> chain;  // chain.front(), chain.back(): the tips, at the contact's top
   double drop = 0;
 };
-
-// A patch over the loop crease chain + the line back from the last tip to the first: the 2D
-// mesh of remeshPanel lifted into 3D. Boundary vertices first: the chain's (in order), then the
-// line's inner samples (from the last tip towards the first); interior vertices after.
-struct Patch {
-  Eigen::MatrixX3d V;  // 3D, the middle surface (no separation yet)
-  Eigen::MatrixX3i F;
-  Eigen::VectorXd bump;  // #V: 0 on the boundary, 1 at the patch's middle
-  Vec3 normal = Vec3::Zero();
-  int chainCount = 0, lineCount = 0;  // boundary vertices of each kind
-};
-
-std::optional<Patch> fillCreaseLoop(const std::vector<Vec3>& chain, const std::vector<Vec3>& line,
-                                    double spacing, std::string* why) {
-  std::vector<Vec3> outline = chain;
-  outline.insert(outline.end(), line.begin(), line.end());
-  Vec3 centre = Vec3::Zero();
-  for (const Vec3& p : outline) centre += p;
-  centre /= static_cast<double>(outline.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : outline) cov += (p - centre) * (p - centre).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  const Vec3 n = eig.eigenvectors().col(0), u = eig.eigenvectors().col(2),
-             w = eig.eigenvectors().col(1);
-  const auto to2d = [&](const Vec3& p) {
-    return Eigen::RowVector2d((p - centre).dot(u), (p - centre).dot(w));
-  };
-  Eigen::MatrixX2d e0(chain.size(), 2), e1(line.size() + 2, 2);
-  for (size_t i = 0; i < chain.size(); ++i) e0.row(static_cast<int>(i)) = to2d(chain[i]);
-  e1.row(0) = to2d(chain.back());
-  for (size_t i = 0; i < line.size(); ++i) e1.row(static_cast<int>(i) + 1) = to2d(line[i]);
-  e1.row(static_cast<int>(line.size()) + 1) = to2d(chain.front());
-  RemeshedPanel m;
-  try {
-    RemeshOptions ro;
-    ro.targetEdgeLength = spacing;
-    m = remeshPanel({e0, e1}, "contact", ro);
-  } catch (const Error& e) {
-    *why = fmt::format("its crease does not flatten onto a plane ({})", e.what());
-    return std::nullopt;
-  }
-  // Output ids of the outline, in outline order.
-  std::vector<int> ids(m.edgeVertices[0].begin(), m.edgeVertices[0].end());
-  ids.insert(ids.end(), m.edgeVertices[1].begin() + 1, m.edgeVertices[1].end() - 1);
-  if (ids.size() != outline.size() || m.boundarySteinerPoints > 0) {
-    *why = "the mesher changed its crease";
-    return std::nullopt;
-  }
-  // Renumber: outline first, then the interior.
-  const int nV = static_cast<int>(m.V.rows()), nB = static_cast<int>(ids.size());
-  std::vector<int> order(nV, -1);
-  for (int i = 0; i < nB; ++i) order[ids[i]] = i;
-  int next = nB;
-  for (int v = 0; v < nV; ++v)
-    if (order[v] < 0) order[v] = next++;
-  Patch patch;
-  patch.normal = n;
-  patch.chainCount = static_cast<int>(chain.size());
-  patch.lineCount = static_cast<int>(line.size());
-  patch.F.resize(m.F.rows(), 3);
-  for (int f = 0; f < m.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) patch.F(f, k) = order[m.F(f, k)];
-  Eigen::MatrixX2d p2(nV, 2);
-  for (int v = 0; v < nV; ++v) p2.row(order[v]) = m.V.row(v);
-  // Off the plane: harmonic in the outline's heights; the bump: Δb = −1, 0 on the outline.
-  TriMesh flat;
-  flat.V = Eigen::MatrixX3d::Zero(nV, 3);
-  flat.V.leftCols(2) = p2;
-  flat.F = patch.F;
-  const Eigen::SparseMatrix<double> L = cotanLaplacian(flat, 1e3);
-  const Eigen::VectorXd area = vertexAreas(flat);
-  Eigen::VectorXd height = Eigen::VectorXd::Zero(nV), bump = Eigen::VectorXd::Zero(nV);
-  for (int i = 0; i < nB; ++i) height[i] = (outline[i] - centre).dot(n);
-  const int nI = nV - nB;
-  if (nI > 0) {
-    const Eigen::SparseMatrix<double> Lii = L.bottomRightCorner(nI, nI);
-    const Eigen::SparseMatrix<double> Lib = L.bottomLeftCorner(nI, nB);
-    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Lii);
-    if (solver.info() != Eigen::Success) {
-      *why = "its fill could not be solved";
-      return std::nullopt;
-    }
-    height.tail(nI) = solver.solve(-(Lib * height.head(nB)));
-    bump.tail(nI) = solver.solve(area.tail(nI));
-    if (bump.maxCoeff() > 0) bump /= bump.maxCoeff();
-  }
-  patch.V.resize(nV, 3);
-  for (int v = 0; v < nV; ++v)
-    patch.V.row(v) = (centre + p2(v, 0) * u + p2(v, 1) * w + height[v] * n).transpose();
-  for (int i = 0; i < nB; ++i) patch.V.row(i) = outline[i].transpose();  // exactly
-  patch.bump = bump.cwiseMax(0.0);
-  return patch;
-}
 
 }  // namespace
 
@@ -275,10 +178,13 @@ ContactOpening openFusedContacts(const TriMesh& garment, const Eigen::VectorXi& 
     std::vector<Vec3> line;  // from tip B back to tip A, inner samples
     for (int j = 1; j < segments; ++j)
       line.push_back(tipB + (tipA - tipB) * (static_cast<double>(j) / segments));
+    std::vector<Vec3> outline = chainP;  // the crease, then the line under the arm back
+    outline.insert(outline.end(), line.begin(), line.end());
     std::string why;
-    const std::optional<Patch> patch = fillCreaseLoop(chainP, line, spacing, &why);
+    const std::optional<LoopFill> patch = fillLoop(outline, spacing, &why);
     if (!patch) {
-      out.notes.push_back(fmt::format("{} armhole: {}; left fused", crease.side, why));
+      out.notes.push_back(fmt::format("{} armhole: its crease cannot be closed ({}); left fused",
+                                      crease.side, why));
       continue;
     }
     // The faces holding the crease's first edge (tip A → chain[1]), one on each side.
@@ -320,12 +226,13 @@ ContactOpening openFusedContacts(const TriMesh& garment, const Eigen::VectorXi& 
     for (const bool sleeve : {true, false}) {
       const double offset = (sleeve ? 0.5 : -0.5) * toArm * options.separation;
       std::vector<int> id(patch->V.rows());
-      const int nB = patch->chainCount + patch->lineCount;
-      for (int i = 0; i < patch->chainCount; ++i) {
+      const int chainCount = static_cast<int>(chain.size());
+      const int nB = chainCount + static_cast<int>(line.size());
+      for (int i = 0; i < chainCount; ++i) {
         const int v = chain[i];
         id[i] = sleeve && sleeveCopy.count(v) ? sleeveCopy.at(v) : v;
       }
-      for (int i = 0; i < patch->lineCount; ++i) id[patch->chainCount + i] = lineIds[i];
+      for (size_t i = 0; i < line.size(); ++i) id[chainCount + i] = lineIds[i];
       std::vector<Vec3> hinted;
       for (int v = nB; v < patch->V.rows(); ++v) {
         id[v] = addVertex(patch->V.row(v).transpose() + offset * patch->bump[v] * patch->normal);
