@@ -9,7 +9,6 @@
 #include <optional>
 
 #include "core/mesh_topology.h"
-#include "pattern/body_frame.h"
 #include "pattern/loop_fill.h"
 #include "segment/mesh_cut.h"
 
@@ -68,8 +67,9 @@ struct Crease {
 }  // namespace
 
 ContactOpening openFusedContacts(const TriMesh& garment, const Eigen::VectorXi& faceOrigin,
-                                 const SeamLine& armhole, const TriMesh& body,
-                                 const BodyFrame& frame, const SeamOptions& seamOptions,
+                                 const SeamLine& armhole,
+                                 const std::array<double, 2>& armpitHeights, const BodyFrame& frame,
+                                 const SeamOptions& seamOptions,
                                  const ContactOpeningOptions& options) {
   ContactOpening out;
   out.mesh = garment;
@@ -112,7 +112,7 @@ ContactOpening openFusedContacts(const TriMesh& garment, const Eigen::VectorXi& 
     if (!(top - low >= options.minDrop)) continue;  // no fold, or a rounded armpit
     // The contact lies below the body's armpit, where arm and torso are apart; above it they
     // are one, and a fold there is the arm's root, where an armhole belongs.
-    const double armpit = armpitHeight(body, frame, side == "left");
+    const double armpit = armpitHeights[side == "left" ? 0 : 1];
     if (std::isfinite(armpit)) top = std::min(top, armpit);
     // The crease: the stretch of the loop below that top around the loop's lowest point.
     const int lowest = static_cast<int>(std::min_element(h.begin(), h.end()) - h.begin());

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -62,12 +63,12 @@ struct ContactOpening {
 };
 
 // garment: the cut garment (consistently oriented manifold); faceOrigin: its faces' scan faces;
-// armhole: its armhole seam (SeamKind::Armhole) estimated on it; body: the posed fitted body
-// (closed), whose armpit (armpitHeight) bounds the contact from above. A seam that is not kept,
-// or follows no fold reaching minDrop down and minDrop below the armpit, leaves the garment as
-// it is.
+// armhole: its armhole seam (SeamKind::Armhole) estimated on it; armpit: the posed fitted body's
+// armpit heights, left and right (armpitHeight; NaN: not known), which bound the contact from
+// above. A seam that is not kept, or follows no fold reaching minDrop down and minDrop below the
+// armpit, leaves the garment as it is.
 ContactOpening openFusedContacts(const TriMesh& garment, const Eigen::VectorXi& faceOrigin,
-                                 const SeamLine& armhole, const TriMesh& body,
+                                 const SeamLine& armhole, const std::array<double, 2>& armpit,
                                  const BodyFrame& frame, const SeamOptions& seamOptions,
                                  const ContactOpeningOptions& options = {});
 

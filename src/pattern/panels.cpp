@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -293,8 +294,9 @@ class GarmentPanelizer {
       return s.kind == SeamKind::Armhole && s.kept;
     });
     if (armhole == gp.seams.end()) return;
-    ContactOpening c = openFusedContacts(garment_.mesh, garment_.faceOrigin, *armhole, in_.body,
-                                         frame_, options_.seams, options_.contacts);
+    ContactOpening c =
+        openFusedContacts(garment_.mesh, garment_.faceOrigin, *armhole, armpitHeights(), frame_,
+                          options_.seams, options_.contacts);
     for (const std::string& note : c.notes) gp.notes.push_back(note);
     if (c.opened.empty()) return;
     try {
@@ -324,10 +326,18 @@ class GarmentPanelizer {
           1000 * o.topWidth));
   }
 
+  // The fitted body's armpit heights, left and right (armpitHeight), found once.
+  const std::array<double, 2>& armpitHeights() {
+    if (!armpit_)
+      armpit_ = std::array<double, 2>{armpitHeight(in_.body, frame_, true),
+                                      armpitHeight(in_.body, frame_, false)};
+    return *armpit_;
+  }
+
   // Says, per arm, how much of the armhole seam follows a fold below the body's armpit where the
   // scan fused the sleeve to the trunk (armholeFolds) and the contact was left fused: there the
   // seam cannot pass under the arm at the armpit. (Above the armpit a fold is the arm's root.)
-  void noteFolds(const TriMesh& mesh, const SeamLine& armhole, GarmentPanels& gp) const {
+  void noteFolds(const TriMesh& mesh, const SeamLine& armhole, GarmentPanels& gp) {
     const std::vector<SeamFold> folds = armholeFolds(mesh, armhole, options_.seams);
     if (folds.empty()) return;
     for (const char* side : {"left", "right"}) {
@@ -341,7 +351,7 @@ class GarmentPanelizer {
           low = std::min(low, frame_.height(p));
         }
       }
-      const double armpit = armpitHeight(in_.body, frame_, std::string(side) == "left");
+      const double armpit = armpitHeights()[std::string(side) == "left" ? 0 : 1];
       if (std::isfinite(armpit)) top = std::min(top, armpit);
       if (length == 0 || top - low < options_.seams.creaseReportDrop) continue;
       gp.notes.push_back(fmt::format(
@@ -785,6 +795,7 @@ class GarmentPanelizer {
   std::vector<char> fallbackCut_;             // ... of which by the fallback cut
   std::vector<PanelMesh> meshes_;
   Eigen::VectorXd visibility_;
+  std::optional<std::array<double, 2>> armpit_;
   int merged_ = 0;
 };
 

@@ -342,7 +342,9 @@ TEST(ContactOpening, AFusedArmIsOpenedAndItsArmholePassesUnderTheArm_Slow) {
 
   const Eigen::VectorXi origin =
       Eigen::VectorXi::LinSpaced(shirt.numFaces(), 0, shirt.numFaces() - 1);
-  const ContactOpening c = openFusedContacts(shirt, origin, before, body, frame, SeamOptions{});
+  const ContactOpening c = openFusedContacts(
+      shirt, origin, before, {armpitHeight(body, frame, true), armpitHeight(body, frame, false)},
+      frame, SeamOptions{});
   std::string notes;
   for (const std::string& n : c.notes) notes += n + "; ";
   ASSERT_EQ(c.opened.size(), 1u) << notes;
