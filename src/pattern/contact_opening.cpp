@@ -18,10 +18,14 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-// The isoline of a refined mesh as vertex cycles: the edges between a face of each side, walked
-// into loops. A component where a vertex has other than two such edges is left out (the seam
-// touches itself there; no crease to follow).
-std::vector<std::vector<int>> isolineCycles(const RefinedMesh& r, const MeshTopology& topo) {
+// One connected piece of the isoline of a refined mesh (the edges between a face of each side).
+struct IsolinePiece {
+  std::vector<std::pair<int, int>> edges;  // refined-mesh vertex pairs
+  std::vector<int> cycle;  // the vertices in order round the loop; empty when the piece is not
+                           // one loop (it ends on the border or touches itself)
+};
+
+std::vector<IsolinePiece> isolinePieces(const RefinedMesh& r, const MeshTopology& topo) {
   const int nV = r.mesh.numVertices();
   std::vector<std::vector<int>> adj(nV);
   for (int e = 0; e < topo.numEdges(); ++e) {
@@ -30,7 +34,7 @@ std::vector<std::vector<int>> isolineCycles(const RefinedMesh& r, const MeshTopo
     adj[topo.edges()(e, 0)].push_back(topo.edges()(e, 1));
     adj[topo.edges()(e, 1)].push_back(topo.edges()(e, 0));
   }
-  std::vector<std::vector<int>> cycles;
+  std::vector<IsolinePiece> pieces;
   std::vector<char> seen(nV, 0);
   for (int s = 0; s < nV; ++s) {
     if (adj[s].empty() || seen[s]) continue;
@@ -42,18 +46,23 @@ std::vector<std::vector<int>> isolineCycles(const RefinedMesh& r, const MeshTopo
           seen[w] = 1;
           component.push_back(w);
         }
-    if (!std::all_of(component.begin(), component.end(), [&](int v) { return adj[v].size() == 2; }))
-      continue;
-    std::vector<int> cycle{s};
-    for (int prev = s, cur = adj[s][0]; cur != s;) {
-      cycle.push_back(cur);
-      const int next = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
-      prev = cur;
-      cur = next;
+    IsolinePiece piece;
+    for (int v : component)
+      for (int w : adj[v])
+        if (v < w) piece.edges.emplace_back(v, w);
+    if (std::all_of(component.begin(), component.end(),
+                    [&](int v) { return adj[v].size() == 2; })) {
+      piece.cycle.push_back(s);
+      for (int prev = s, cur = adj[s][0]; cur != s;) {
+        piece.cycle.push_back(cur);
+        const int next = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
+        prev = cur;
+        cur = next;
+      }
     }
-    cycles.push_back(std::move(cycle));
+    pieces.push_back(std::move(piece));
   }
-  return cycles;
+  return pieces;
 }
 
 // One contact to open: the crease part of an arm's armhole loop, tip to tip through its lowest
@@ -92,31 +101,39 @@ ContactOpening openFusedContacts(const TriMesh& garment, const Eigen::VectorXi& 
   };
 
   std::vector<Crease> creases;
-  for (const std::vector<int>& cycle : isolineCycles(r, rt)) {
-    const int n = static_cast<int>(cycle.size());
-    if (n < 4) continue;
-    std::vector<double> h(n);
-    Vec3 c = Vec3::Zero();
-    for (int i = 0; i < n; ++i) {
-      h[i] = frame.height(P(cycle[i]));
-      c += P(cycle[i]);
-    }
-    const std::string side = frame.side(c / n);
+  for (const IsolinePiece& piece : isolinePieces(r, rt)) {
+    // The fold's extent along the piece, and the piece's side.
     double top = -std::numeric_limits<double>::infinity(),
            low = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < n; ++i)
-      if (onFold(cycle[i], cycle[(i + 1) % n])) {
-        top = std::max({top, h[i], h[(i + 1) % n]});
-        low = std::min({low, h[i], h[(i + 1) % n]});
-      }
+    Vec3 c = Vec3::Zero();
+    for (const auto& [a, b] : piece.edges) {
+      c += P(a) + P(b);
+      if (!onFold(a, b)) continue;
+      top = std::max({top, frame.height(P(a)), frame.height(P(b))});
+      low = std::min({low, frame.height(P(a)), frame.height(P(b))});
+    }
+    const std::string side = frame.side(c / (2.0 * std::max<size_t>(1, piece.edges.size())));
     if (!(top - low >= options.minDrop)) continue;  // no fold, or a rounded armpit
     // The contact lies below the body's armpit, where arm and torso are apart; above it they
     // are one, and a fold there is the arm's root, where an armhole belongs.
     const double armpit = armpitHeights[side == "left" ? 0 : 1];
     if (std::isfinite(armpit)) top = std::min(top, armpit);
+    if (top - low < options.minDrop) continue;  // the arm's root: no contact below
+    const std::vector<int>& cycle = piece.cycle;
+    const int n = static_cast<int>(cycle.size());
+    if (n < 4) {
+      out.notes.push_back(fmt::format(
+          "{} armhole: it follows a fold {:.0f} mm below the armpit, but its line does not close "
+          "round the arm (it runs into an opening: a cuff the scan joined to the hem?); left "
+          "fused",
+          side, 1000 * (top - low)));
+      continue;
+    }
+    std::vector<double> h(n);
+    for (int i = 0; i < n; ++i) h[i] = frame.height(P(cycle[i]));
     // The crease: the stretch of the loop below that top around the loop's lowest point.
     const int lowest = static_cast<int>(std::min_element(h.begin(), h.end()) - h.begin());
-    if (top - h[lowest] < options.minDrop) continue;  // the arm's root: no contact below
+    if (top - h[lowest] < options.minDrop) continue;
     int a = lowest, b = lowest, steps = 0;
     while (h[(a + n - 1) % n] < top && steps++ < n) a = (a + n - 1) % n;
     while (h[(b + 1) % n] < top && steps++ < n) b = (b + 1) % n;
