@@ -40,12 +40,15 @@ json truthBody(const fs::path& truth) {
   return t["body"];
 }
 
+// underBody: the body under the clothes (underBodyForScan), for the geometric cues as `run` has
+// them.
 SegmentOutput runSegmenter(const std::string& segmenter, const Scan& scan,
-                           const PosedFeatures& body, const SegmentationOptions& options,
-                           Progress& progress) {
+                           const PosedFeatures& body, const TriMesh& underBody,
+                           const SegmentationOptions& options, Progress& progress) {
   if (segmenter == "mrf") return segmentWithMrf(scan, body.body, body.features, options, progress);
-  return {segmentScan(scan.mesh, scan.colour, body.body, body.features, options, &progress),
-          "curve"};
+  return {
+      segmentScan(scan.mesh, scan.colour, body.body, underBody, body.features, options, &progress),
+      "curve"};
 }
 
 void checkSegmenter(const std::string& segmenter) {
@@ -78,11 +81,10 @@ int runSegment(const SegmentCommand& cmd, Progress& progress) {
   const json bodyJson =
       cmd.truth.empty() ? readJsonFile(cmd.body, "body file") : truthBody(cmd.truth);
   const LoadedScan loaded = loadScan(cmd.scan, cmd.load, progress);
-  const PosedFeatures body =
-      poseBodyForScan(bodyJson, loaded.scan, progress,
-                      cmd.body.empty() ? fs::path() : fs::absolute(cmd.body).parent_path());
+  const fs::path bodyDir = cmd.body.empty() ? fs::path() : fs::absolute(cmd.body).parent_path();
+  const PosedFeatures body = poseBodyForScan(bodyJson, loaded.scan, progress, bodyDir);
   const SegmentOutput result = runSegmenter(
-      cmd.segmenter, loaded.scan, body,
+      cmd.segmenter, loaded.scan, body, underBodyForScan(bodyJson, body, loaded.scan, bodyDir),
       segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices), progress);
   progress.begin("write outputs");
   writeSegmentation(cmd.out, loaded.scan, result);
@@ -149,7 +151,7 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
       const LoadedScan loaded = loadScan(scanPath, {}, progress);
       const PosedFeatures body = poseBodyForScan(truth.body, loaded.scan, progress);
       const SegmentOutput result =
-          runSegmenter(cmd.segmenter, loaded.scan, body, options, progress);
+          runSegmenter(cmd.segmenter, loaded.scan, body, body.body, options, progress);
       writeSegmentation(outDir, loaded.scan, result);
       const SegmentScore score = scoreSegmentation(truthPath, outDir);
       const Evaluation& e = score.evaluation;

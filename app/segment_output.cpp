@@ -11,6 +11,7 @@
 #include "eval/evaluation_files.h"
 #include "export/png.h"
 #include "export/preview.h"
+#include "io/read_obj.h"
 #include "io/read_scan.h"
 #include "io/write_mesh.h"
 #include "synth/synthesize.h"
@@ -109,6 +110,15 @@ PosedFeatures poseBodyForScan(const json& bodyJson, const Scan& scan, Progress& 
   out.canonical = toFrame(scan.toInputFrame.inverse(), out.canonical);
   progress.end();
   return out;
+}
+
+TriMesh underBodyForScan(const json& bodyJson, const PosedFeatures& body, const Scan& scan,
+                         const fs::path& jsonDir) {
+  const fs::path fitted = jsonDir / "body_fit.obj";
+  if (jsonDir.empty() || !bodyJson.contains("full_mesh") || !fs::exists(fitted)) return body.body;
+  TriMesh m = readObjGeometry(fitted);
+  m.V = toFrame(scan.toInputFrame.inverse(), m.V);
+  return m;
 }
 
 // NaN (no body under the clothes) as null: JSON has no NaN.

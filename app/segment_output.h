@@ -18,8 +18,15 @@ namespace s2p::app {
 // there by "to_scan_file" (a fit's body.json); a fit's "full_mesh" (its non-rigid fit, a file
 // relative to `jsonDir`) replaces the posed body when `jsonDir` is given and the file exists.
 // The body model, its parameters and their frame go with it, so that the pattern can be placed.
-PosedFeatures poseBodyForScan(const nlohmann::json& bodyJson, const Scan& scan,
-                              Progress& progress, const std::filesystem::path& jsonDir = {});
+PosedFeatures poseBodyForScan(const nlohmann::json& bodyJson, const Scan& scan, Progress& progress,
+                              const std::filesystem::path& jsonDir = {});
+
+// The body under the clothes, for the segmentation's geometric cues (segmentScan's underBody),
+// in the normalised frame of `scan`: a fit's shape-and-pose fit (body_fit.obj beside the
+// body.json that names a "full_mesh", in the scan file's frame), else `body`'s own mesh (a made or
+// a true body: nothing between it and the scan but the clothes).
+TriMesh underBodyForScan(const nlohmann::json& bodyJson, const PosedFeatures& body,
+                         const Scan& scan, const std::filesystem::path& jsonDir = {});
 
 struct SegmentOutput {
   Segmentation segmentation;
