@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/mesh_topology.h"
+#include "core/shapes.h"
 #include "pattern/loop_fill.h"
 #include "segment/mesh_cut.h"
 
@@ -283,19 +284,13 @@ ContactOpening openFusedContacts(const TriMesh& garment, const Eigen::VectorXi& 
   }
   if (out.opened.empty()) return out;
 
-  // Assemble without unreferenced vertices; a result that is not a manifold is not used.
-  std::vector<int> used(V.size(), -1);
-  int nV = 0;
-  for (const Eigen::Vector3i& t : F)
-    for (int k = 0; k < 3; ++k)
-      if (used[t[k]] < 0) used[t[k]] = nV++;
+  // Assembled (any vertex no face uses dropped); a result that is not a manifold is not used.
   TriMesh m;
-  m.V.resize(nV, 3);
-  for (size_t v = 0; v < V.size(); ++v)
-    if (used[v] >= 0) m.V.row(used[v]) = V[v].transpose();
+  m.V.resize(static_cast<int>(V.size()), 3);
+  for (size_t v = 0; v < V.size(); ++v) m.V.row(static_cast<int>(v)) = V[v].transpose();
   m.F.resize(static_cast<int>(F.size()), 3);
-  for (size_t f = 0; f < F.size(); ++f)
-    for (int k = 0; k < 3; ++k) m.F(static_cast<int>(f), k) = used[F[f][k]];
+  for (size_t f = 0; f < F.size(); ++f) m.F.row(static_cast<int>(f)) = F[f].transpose();
+  removeUnreferencedVertices(m);
   const MeshTopology mt(m.F, m.numVertices());
   if (!mt.manifoldness().isManifold()) {
     out.notes.push_back(fmt::format(
