@@ -42,6 +42,7 @@ std::optional<LoopFill> fillLoop(const std::vector<Eigen::Vector3d>& outline, do
   try {
     RemeshOptions ro;
     ro.targetEdgeLength = spacing;
+    ro.repairBadFaces = false;  // a surface to cut seams on, not a simulation mesh
     m = remeshPanel({e0, e1}, "loop", ro);
   } catch (const Error& e) {
     return fail(fmt::format("it does not lie flat on a plane ({})", e.what()));

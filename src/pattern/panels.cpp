@@ -1,6 +1,7 @@
 #include "pattern/panels.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -246,10 +247,18 @@ class GarmentPanelizer {
           garment_.name, topo.manifoldness().nonManifoldEdges.size(),
           topo.manifoldness().nonManifoldVertices.size()));
     gp.openings = classifyOpenings(mesh, topo, garment_.kind, frame_);
-    gp.seams = seams ? std::move(*seams)
-                     : estimateSeams(mesh, garment_.kind, in_.body, in_.features, gp.openings,
-                                     options_.seams, in_.bodyLimbWeight);
-    if (!seams && options_.openFusedContacts) openContacts(gp);
+    if (seams) {
+      gp.seams = std::move(*seams);
+    } else {
+      // The armhole first: where it shows a fused contact, the garment is completed and every
+      // seam is found on that instead; the fused garment's other seams are then not needed.
+      SeamEstimator estimator(mesh, garment_.kind, in_.body, in_.features, gp.openings,
+                              options_.seams, in_.bodyLimbWeight);
+      const SeamLine* armhole = estimator.seam(SeamKind::Armhole);
+      const bool opened = options_.openFusedContacts && armhole && armhole->kept &&
+                          openContacts(*armhole, gp);
+      if (!opened) gp.seams = estimator.all();
+    }
     for (const SeamLine& s : gp.seams)
       if (!s.kept)
         gp.notes.push_back(fmt::format("seam '{}' removed: {}", s.name, s.removedWhy));
@@ -286,19 +295,17 @@ class GarmentPanelizer {
   }
 
  private:
-  // Where the scan fused a sleeve to the trunk below the armpit, opens the contact and supplies
-  // the hidden cloth (openFusedContacts), then finds the openings and seams again on the
-  // completed garment. A completed garment whose seams cannot be found is not used.
-  void openContacts(GarmentPanels& gp) {
-    const auto armhole = std::find_if(gp.seams.begin(), gp.seams.end(), [](const SeamLine& s) {
-      return s.kind == SeamKind::Armhole && s.kept;
-    });
-    if (armhole == gp.seams.end()) return;
+  // Where the scan fused a sleeve to the trunk below the armpit (along `armhole`, the fused
+  // garment's armhole seam), opens the contact and supplies the hidden cloth
+  // (openFusedContacts), then finds the openings and seams again on the completed garment:
+  // gp.openings and gp.seams. False (gp's seams untouched, notes added) when nothing was opened
+  // or the completed garment's seams cannot be found.
+  bool openContacts(const SeamLine& armhole, GarmentPanels& gp) {
     ContactOpening c =
-        openFusedContacts(garment_.mesh, garment_.faceOrigin, *armhole, armpitHeights(), frame_,
+        openFusedContacts(garment_.mesh, garment_.faceOrigin, armhole, armpitHeights(), frame_,
                           options_.seams, options_.contacts);
     for (const std::string& note : c.notes) gp.notes.push_back(note);
-    if (c.opened.empty()) return;
+    if (c.opened.empty()) return false;
     try {
       const MeshTopology topo(c.mesh.F, c.mesh.numVertices());
       std::vector<Opening> openings = classifyOpenings(c.mesh, topo, garment_.kind, frame_);
@@ -312,7 +319,7 @@ class GarmentPanelizer {
           "the contact(s) under the arm were opened but the seams of the completed garment "
           "could not be found ({}); left fused",
           e.what()));
-      return;
+      return false;
     }
     garment_.mesh = std::move(c.mesh);
     garment_.faceOrigin = std::move(c.faceOrigin);
@@ -324,6 +331,7 @@ class GarmentPanelizer {
           "under the arm), so the armhole passes under the arm",
           o.side, 1000 * o.creaseLength, 1000 * o.drop, o.sleeveArea, o.trunkArea,
           1000 * o.topWidth));
+    return true;
   }
 
   // The fitted body's armpit heights, left and right (armpitHeight), found once.
@@ -946,23 +954,46 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
                                       besideArm)
                         : ""));
   }
+  // The garments are independent: each is panelled into a result of its own, in parallel, and
+  // the results are joined in the garments' order (the panel and garment indices shifted).
+  std::vector<PanelsResult> own(garments.size());
+  std::vector<std::exception_ptr> failed(garments.size());
+  tbb::parallel_for(size_t{0}, garments.size(), [&](size_t g) {
+    try {
+      GarmentPanelizer(input, garments[g], 0, frame, options, own[g]).run();
+    } catch (const Error&) {
+      failed[g] = std::current_exception();
+    }
+  });
   // A garment that makes no pattern does not cost the others theirs: its error becomes a
   // warning, and only when no garment makes one is the error raised.
   std::exception_ptr lastError;
   for (size_t g = 0; g < garments.size(); ++g) {
-    const size_t panelsBefore = result.panels.size();
-    try {
-      // Panels index result.garments (placement, the pattern files), which holds only the
-      // garments that made a pattern: a failed garment before this one shifts the index.
-      GarmentPanelizer(input, garments[g], static_cast<int>(result.garments.size()), frame, options,
-                       result)
-          .run();
-    } catch (const Error& e) {
-      result.panels.resize(panelsBefore);  // drop what the failed garment had added
-      result.warnings.push_back(
-          fmt::format("garment '{}' makes no pattern: {}", garments[g].name, e.what()));
-      lastError = std::current_exception();
+    if (failed[g]) {
+      try {
+        std::rethrow_exception(failed[g]);
+      } catch (const Error& e) {
+        result.warnings.push_back(
+            fmt::format("garment '{}' makes no pattern: {}", garments[g].name, e.what()));
+      }
+      lastError = failed[g];
+      continue;
     }
+    // Panels index result.garments (placement, the pattern files), which holds only the
+    // garments that made a pattern: a failed garment before this one shifts the index.
+    const int panelOffset = static_cast<int>(result.panels.size());
+    const int garmentIndex = static_cast<int>(result.garments.size());
+    for (Panel& panel : own[g].panels) {
+      panel.garmentIndex = garmentIndex;
+      for (PanelEdge& edge : panel.edges)
+        if (edge.partnerPanel >= 0) edge.partnerPanel += panelOffset;
+      result.panels.push_back(std::move(panel));
+    }
+    for (GarmentPanels& gp : own[g].garments) {
+      for (int& p : gp.panels) p += panelOffset;
+      result.garments.push_back(std::move(gp));
+    }
+    for (std::string& w : own[g].warnings) result.warnings.push_back(std::move(w));
   }
   if (result.garments.empty() && lastError) std::rethrow_exception(lastError);
   result.seconds = secondsSince(t0);

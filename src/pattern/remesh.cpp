@@ -291,7 +291,7 @@ RemeshedPanel remeshPanel(const std::vector<Eigen::MatrixX2d>& edges, const std:
     refine<CGAL::Delaunay_mesher_2<Cdt, Criteria>>(cdt, criteria);
   } else {
     refine<CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, Criteria>>(cdt, criteria);
-    repairBadFaces(cdt, criteria, options.minAngleDeg);
+    if (options.repairBadFaces) repairBadFaces(cdt, criteria, options.minAngleDeg);
   }
 
   // === Output: boundary vertices in outline order (walking the constraints), then the rest.

@@ -33,6 +33,10 @@ struct RemeshOptions {
   // largest bound with a termination guarantee, and the largest accepted.
   double minAngleDeg = 20.7;
   bool allowBoundarySteiner = false;  // let the mesher split boundary segments
+  // Without boundary Steiner points, offer the faces CGAL leaves below the angle bound other
+  // interior points (repairBadFaces). Costly on an outline of many short, uneven segments (a
+  // scan's crease): a membrane that is only a surface to cut seams on does without it.
+  bool repairBadFaces = true;
 };
 
 struct RemeshedPanel {

@@ -1,5 +1,7 @@
 #include "pattern/seam_lines.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -385,234 +388,282 @@ std::vector<Opening> classifyOpenings(const TriMesh& garment, const MeshTopology
 
 namespace {
 
-// The seams of estimateSeams on `garment` itself.
-std::vector<SeamLine> seamsOnMesh(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
-                                  const FeatureSet& features, const std::vector<Opening>& openings,
-                                  const SeamOptions& options, const Eigen::MatrixXd& bodyLimbWeight,
-                                  const std::vector<ArmholeHint>& armholeHints) {
+ProjectionOptions projectionOptions(const SeamOptions& options, const TriMesh& body) {
   ProjectionOptions popt = options.projection;
   const BoundingBox bb = boundingBox(body.V);
   popt.bodyLength = std::max(bb.extent().maxCoeff(), 1e-3);
-  const FeatureProjector projector(body, garment, popt);
-  const MeshQuery query(garment);
-  const MeshTopology topo(garment.F, garment.numVertices());
-  const double spacing = std::max(options.splineSpacing, meanEdgeLength(garment));
-  std::unique_ptr<BoundaryOptimizer> optimizer;  // built once, for the first seam kept
-  BoundaryOptions bopt = options.boundary;
-  bopt.maxIterations = std::max(1, options.regularisationSteps);
-  bopt.dropStrayCurves = false;
-  const Eigen::VectorXd noDisplacement = Eigen::VectorXd::Zero(garment.numVertices());
-  const double contactDistance = options.contactDistance * popt.bodyLength;
-  const double clothDistance = options.contactClothDistance * popt.bodyLength;
+  return popt;
+}
 
-  std::vector<SeamLine> out;
-  for (SeamKind kind_ : {SeamKind::FrontBack, SeamKind::Armhole, SeamKind::LeftRight}) {
-    const std::vector<std::string> names = featureNames(kind_, kind);
-    if (names.empty()) continue;
-    const auto t0 = std::chrono::steady_clock::now();
-    SeamLine seam;
-    seam.kind = kind_;
-    seam.name = seamName(kind_);
-    seam.features = names;
-    std::vector<std::vector<SurfacePoint>> zeros;
-    std::vector<ValueConstraint> signs;
-    std::vector<Vec3> prior;
-    std::array<bool, 2> sleeved{false, false};  // left, right arm: its armhole spline kept
-    for (const std::string& fname : names) {
-      const CurveFeatures* f = features.seam(fname);
-      if (!f)
-        throw InputError(
-            fmt::format("pattern: the feature set has no seam '{}' (a features.json "
-                        "from an older version? rerun `fit`)",
-                        fname));
-      for (const FeatureSpline& s : f->splines) {
-        std::vector<ProjectedPoint> p = projector.project(s.anchors);
-        // Contacts are taken back only for a spline Appendix B would remove (fewer than
-        // minAnchors left): a contact anchor is placed less surely than one the scan shows
-        // plainly, and on a spline that keeps enough anchors it only moves the seam (arms_down:
-        // the side seam's end left the sleeve's underarm, whose cut then split the armhole).
-        int plain = 0;
-        for (const ProjectedPoint& q : p) plain += q.ok();
-        const bool needsContacts = plain < options.minAnchors;
-        for (size_t i = 0; i < p.size(); ++i) {
-          const bool contact = needsContacts && isContact(p[i], s.anchors[i].position(body), fname,
-                                                          contactDistance, clothDistance);
-          if (std::getenv("S2P_DEBUG_SEAMS"))
-            fmt::print(stderr, "  {} anchor {}: {}{} hit {:.1f} mm, |p−q| {:.1f} mm\n", s.name, i,
-                       toString(p[i].status), contact ? " (contact, kept)" : "",
-                       1000 * p[i].hitDistance,
-                       1000 * (p[i].p - s.anchors[i].position(body)).norm());
-          if (contact) {
-            p[i].status = ProjectionStatus::Ok;
-            ++seam.contactAnchors;
+// The seams of estimateSeams on `garment` itself (the garment or its decimated copy), each
+// estimated when first asked for. The seam optimiser is built once, with the mesh's other state.
+class SeamsOnMesh {
+ public:
+  SeamsOnMesh(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
+              const FeatureSet& features, std::vector<Opening> openings,
+              const SeamOptions& options, const Eigen::MatrixXd& bodyLimbWeight,
+              std::vector<ArmholeHint> armholeHints)
+      : garment(garment),
+        kind(kind),
+        body(body),
+        features(features),
+        openings(std::move(openings)),
+        options(options),
+        bodyLimbWeight(bodyLimbWeight),
+        armholeHints(std::move(armholeHints)),
+        popt(projectionOptions(options, body)),
+        spacing(std::max(options.splineSpacing, meanEdgeLength(garment))),
+        noDisplacement(Eigen::VectorXd::Zero(garment.numVertices())),
+        contactDistance(options.contactDistance * popt.bodyLength),
+        clothDistance(options.contactClothDistance * popt.bodyLength) {
+    BoundaryOptions bopt = options.boundary;
+    bopt.maxIterations = std::max(1, options.regularisationSteps);
+    bopt.dropStrayCurves = false;
+    // The seam optimiser is built beside the projector: nearly every garment keeps a seam. An
+    // error building it is the first kept seam's reason for having no line.
+    tbb::parallel_invoke(
+        [&] {
+          projector.emplace(body, garment, popt);
+          query.emplace(garment);
+          topo.emplace(garment.F, garment.numVertices());
+        },
+        [&] {
+          try {
+            optimizer.emplace(garment, bopt);
+          } catch (const InputError& e) {
+            optimizerError = e.what();
           }
-        }
-        std::vector<ProjectedPoint> kept;
-        for (const ProjectedPoint& q : p)
-          if (q.ok()) kept.push_back(q);
-        seam.anchors += static_cast<int>(p.size());
-        seam.droppedAnchors += static_cast<int>(p.size() - kept.size());
-        std::string why;
-        // An open spline is broken where an ill-projected anchor between surviving ones lies far
-        // from the garment: across the middle of the seam the garment leaves the body (a skirt
-        // over the crotch, where trousers' seam runs between the legs). An anchor dropped close
-        // to the garment (the armpit, where its rays meet the torso) does not break it.
-        int first = -1, last = -1;
-        for (int i = 0; i < static_cast<int>(p.size()); ++i)
-          if (p[i].ok()) {
-            if (first < 0) first = i;
-            last = i;
-          }
-        int gap = 0;
-        for (int i = first + 1; i < last; ++i)
-          if (!p[i].ok() && (p[i].p - s.anchors[i].position(body)).norm() >
-                                options.brokenSeamDistance * popt.bodyLength)
-            ++gap;
-        if (!s.closed && gap > 0)
-          why = fmt::format(
-              "{} anchor(s) between surviving ones lie more than {:.0f} mm from the "
-              "garment: it leaves the body across the middle of the seam",
-              gap, 1000 * options.brokenSeamDistance * popt.bodyLength);
-        else if (static_cast<int>(kept.size()) < options.minAnchors)
-          why = fmt::format("{} of {} anchors survived the ill-projection tests, {} needed",
-                            kept.size(), p.size(), options.minAnchors);
-        // A sleeve exists only where the garment has an opening on that arm beyond the
-        // armhole (a cuff): the arm-side value of §6.1.2 has nowhere to go on a sleeveless top.
-        std::optional<Limb> arm;
-        if (kind_ == SeamKind::Armhole) {
-          arm = s.name.rfind("left", 0) == 0 ? Limb::LeftArm : Limb::RightArm;
-          bool cuff = false;
-          for (const Opening& o : openings) cuff |= hasCuff(o, *arm);
-          if (!cuff && why.empty()) why = "the garment has no opening on that arm (no sleeve)";
-        }
-        if (!why.empty()) {
-          seam.splinesRemoved.push_back(fmt::format("{}: {}", s.name, why));
-          continue;
-        }
-        seam.splinesKept.push_back(s.name);
-        if (kind_ == SeamKind::Armhole) {
-          sleeved[*arm == Limb::LeftArm ? 0 : 1] = true;
-          // §6.1.2: zero on the projected anchors only, not on a spline through them.
-          std::vector<SurfacePoint> pts;
-          for (const ProjectedPoint& q : kept) {
-            pts.push_back(q.point);
-            prior.push_back(q.p);
-          }
-          zeros.push_back(std::move(pts));
-          for (const Opening& o : openings) {
-            if (o.limb == *arm && o.t > kCuffT)
-              addLoopConstraints(topo, garment, o.vertices, options.boundaryConstraintSpacing, -1.0,
-                                 signs);
-            for (const Opening::JoinedCuff& c : o.joinedCuffs)
-              if (c.limb == *arm)
-                addLoopConstraints(topo, garment, c.vertices, options.boundaryConstraintSpacing,
-                                   -1.0, signs);
-          }
-        } else {
-          Eigen::MatrixX3d A(static_cast<int>(kept.size()), 3);
-          for (size_t i = 0; i < kept.size(); ++i)
-            A.row(static_cast<int>(i)) = kept[i].p.transpose();
-          std::vector<SurfacePoint> pts = surfaceSpline(query, A, s.closed, spacing);
-          for (const SurfacePoint& q : pts) prior.push_back(q.position(garment));
-          zeros.push_back(std::move(pts));
-        }
-      }
-      // Sign points, with paired removal (§6.1.2).
-      std::vector<ProjectedPoint> q;
-      for (const SignPoint& s : f->signs) q.push_back(projector.project(s.point));
-      for (size_t i = 0; i < f->signs.size(); ++i) {
-        const SignPoint& s = f->signs[i];
-        ++seam.signs;
-        const bool partnerOk = s.pair < 0 || q[s.pair].ok();
-        if (!q[i].ok() || !partnerOk) {
-          ++seam.droppedSigns;
-          if (q[i].ok()) ++seam.pairedDrops;
-          continue;
-        }
-        signs.push_back({q[i].point, s.value});
-      }
-    }
-    if (kind_ == SeamKind::Armhole && !zeros.empty())
-      for (const Opening& o : openings)
-        if (o.name == "neckline" || o.name == "hem") {
-          // A cuff joined to the hem is the sleeve's (−1 above), not the trunk's.
-          std::vector<int> trunkPart;
-          for (int v : o.vertices) {
-            bool cuff = false;
-            for (const Opening::JoinedCuff& c : o.joinedCuffs)
-              cuff |= std::find(c.vertices.begin(), c.vertices.end(), v) != c.vertices.end();
-            if (!cuff) trunkPart.push_back(v);
-          }
-          addLoopConstraints(topo, garment, trunkPart, options.boundaryConstraintSpacing, +1.0,
-                             signs);
-        }
-    if (kind_ == SeamKind::Armhole && !zeros.empty())
-      for (const ArmholeHint& h : armholeHints) {
-        const ClosestHit c = query.closestPoint(h.position);
-        signs.push_back({SurfacePoint{c.face, c.bary}, h.value});
-      }
-    if (kind_ == SeamKind::Armhole && !zeros.empty() && bodyLimbWeight.rows() > 0 &&
-        options.partMaxDistance > 0)
-      addBodyPartConstraints(garment, topo, body, bodyLimbWeight, sleeved, prior, popt.bodyLength,
-                             options, seam, signs);
-    seam.prior.resize(static_cast<int>(prior.size()), 3);
-    for (size_t i = 0; i < prior.size(); ++i)
-      seam.prior.row(static_cast<int>(i)) = prior[i].transpose();
-
-    int pos = 0, neg = 0;
-    for (const ValueConstraint& c : signs) (c.value > 0 ? pos : neg)++;
-    if (zeros.empty()) {
-      seam.removedWhy = fmt::format("every spline removed ({} of {} anchors ill-projected)",
-                                    seam.droppedAnchors, seam.anchors);
-    } else if (pos == 0 || neg == 0) {
-      seam.removedWhy = fmt::format(
-          "sign points of one sign only survived ({} positive, {} "
-          "negative)",
-          pos, neg);
-    } else {
-      try {
-        if (!optimizer) optimizer = std::make_unique<BoundaryOptimizer>(garment, bopt);
-        const Eigen::VectorXd phi0 = optimizer->initialImplicit(zeros, signs);
-        if (std::getenv("S2P_DEBUG_SEAMS")) {
-          const Isoline iso0 = extractIsoline(garment, topo, phi0);
-          fmt::print(stderr, "seam {}: {} trunk and {} sleeve body-part points\n", seam.name,
-                     seam.trunkPoints, seam.sleevePoints);
-          fmt::print(stderr,
-                     "seam {}: {} zero sets, {} signs (+{} −{}), phi0 [{:.3f}, {:.3f}], {} curves, "
-                     "length {:.3f}\n",
-                     seam.name, zeros.size(), signs.size(), pos, neg, phi0.minCoeff(),
-                     phi0.maxCoeff(), iso0.curves.size(), iso0.length());
-          std::vector<ValueConstraint> all = signs;
-          for (const auto& z : zeros)
-            for (const auto& q : z) all.push_back({q, 0.0});
-          const Eigen::VectorXd b = biharmonicFunction(garment, all);
-          const Isoline ib = extractIsoline(garment, topo, b);
-          fmt::print(stderr, "  biharmonic [{:.3f}, {:.3f}], {} curves, length {:.3f};",
-                     b.minCoeff(), b.maxCoeff(), ib.curves.size(), ib.length());
-          for (const auto& c : signs)
-            fmt::print(stderr, " {:+.0f}:{:.2f}", c.value, c.point.interpolate(garment.F, b));
-          fmt::print(stderr, "\n");
-        }
-        BoundaryResult r = optimizer->iterate(phi0, signs, noDisplacement);
-        if (r.vanished) {
-          seam.removedWhy = "its zero set vanished under the length regularisation";
-        } else {
-          seam.phi = std::move(r.phi);
-          seam.islandsRemoved = removeIslands(garment, seam.phi, options.minIslandArea, signs);
-          seam.line = extractIsoline(garment, topo, seam.phi);
-          seam.kept = !seam.line.curves.empty();
-          if (!seam.kept)
-            seam.removedWhy = "its implicit function has no zero isoline on the garment";
-        }
-      } catch (const InputError& e) {
-        seam.removedWhy = std::string("no seam line: ") + e.what();
-      }
-    }
-    if (!seam.kept) seam.phi.resize(0);
-    seam.seconds = secondsSince(t0);
-    out.push_back(std::move(seam));
+        });
   }
-  return out;
+
+  // The seam of kind_; nullopt when the garment's kind has none of that kind.
+  std::optional<SeamLine> estimate(SeamKind kind_);
+
+ private:
+  const TriMesh& garment;
+  const GarmentKind kind;
+  const TriMesh& body;
+  const FeatureSet& features;
+  const std::vector<Opening> openings;
+  const SeamOptions options;
+  const Eigen::MatrixXd& bodyLimbWeight;
+  const std::vector<ArmholeHint> armholeHints;
+  const ProjectionOptions popt;
+  const double spacing;
+  const Eigen::VectorXd noDisplacement;
+  const double contactDistance, clothDistance;
+  std::optional<FeatureProjector> projector;
+  std::optional<MeshQuery> query;
+  std::optional<MeshTopology> topo;
+  std::optional<BoundaryOptimizer> optimizer;
+  std::string optimizerError;  // when it could not be built
+};
+
+std::optional<SeamLine> SeamsOnMesh::estimate(SeamKind kind_) {
+  const std::vector<std::string> names = featureNames(kind_, kind);
+  if (names.empty()) return std::nullopt;
+  const auto t0 = std::chrono::steady_clock::now();
+  SeamLine seam;
+  seam.kind = kind_;
+  seam.name = seamName(kind_);
+  seam.features = names;
+  std::vector<std::vector<SurfacePoint>> zeros;
+  std::vector<ValueConstraint> signs;
+  std::vector<Vec3> prior;
+  std::array<bool, 2> sleeved{false, false};  // left, right arm: its armhole spline kept
+  for (const std::string& fname : names) {
+    const CurveFeatures* f = features.seam(fname);
+    if (!f)
+      throw InputError(
+          fmt::format("pattern: the feature set has no seam '{}' (a features.json "
+                      "from an older version? rerun `fit`)",
+                      fname));
+    for (const FeatureSpline& s : f->splines) {
+      std::vector<ProjectedPoint> p = projector->project(s.anchors);
+      // Contacts are taken back only for a spline Appendix B would remove (fewer than
+      // minAnchors left): a contact anchor is placed less surely than one the scan shows
+      // plainly, and on a spline that keeps enough anchors it only moves the seam (arms_down:
+      // the side seam's end left the sleeve's underarm, whose cut then split the armhole).
+      int plain = 0;
+      for (const ProjectedPoint& q : p) plain += q.ok();
+      const bool needsContacts = plain < options.minAnchors;
+      for (size_t i = 0; i < p.size(); ++i) {
+        const bool contact = needsContacts && isContact(p[i], s.anchors[i].position(body), fname,
+                                                        contactDistance, clothDistance);
+        if (std::getenv("S2P_DEBUG_SEAMS"))
+          fmt::print(stderr, "  {} anchor {}: {}{} hit {:.1f} mm, |p−q| {:.1f} mm\n", s.name, i,
+                     toString(p[i].status), contact ? " (contact, kept)" : "",
+                     1000 * p[i].hitDistance,
+                     1000 * (p[i].p - s.anchors[i].position(body)).norm());
+        if (contact) {
+          p[i].status = ProjectionStatus::Ok;
+          ++seam.contactAnchors;
+        }
+      }
+      std::vector<ProjectedPoint> kept;
+      for (const ProjectedPoint& q : p)
+        if (q.ok()) kept.push_back(q);
+      seam.anchors += static_cast<int>(p.size());
+      seam.droppedAnchors += static_cast<int>(p.size() - kept.size());
+      std::string why;
+      // An open spline is broken where an ill-projected anchor between surviving ones lies far
+      // from the garment: across the middle of the seam the garment leaves the body (a skirt
+      // over the crotch, where trousers' seam runs between the legs). An anchor dropped close
+      // to the garment (the armpit, where its rays meet the torso) does not break it.
+      int first = -1, last = -1;
+      for (int i = 0; i < static_cast<int>(p.size()); ++i)
+        if (p[i].ok()) {
+          if (first < 0) first = i;
+          last = i;
+        }
+      int gap = 0;
+      for (int i = first + 1; i < last; ++i)
+        if (!p[i].ok() && (p[i].p - s.anchors[i].position(body)).norm() >
+                              options.brokenSeamDistance * popt.bodyLength)
+          ++gap;
+      if (!s.closed && gap > 0)
+        why = fmt::format(
+            "{} anchor(s) between surviving ones lie more than {:.0f} mm from the "
+            "garment: it leaves the body across the middle of the seam",
+            gap, 1000 * options.brokenSeamDistance * popt.bodyLength);
+      else if (static_cast<int>(kept.size()) < options.minAnchors)
+        why = fmt::format("{} of {} anchors survived the ill-projection tests, {} needed",
+                          kept.size(), p.size(), options.minAnchors);
+      // A sleeve exists only where the garment has an opening on that arm beyond the
+      // armhole (a cuff): the arm-side value of §6.1.2 has nowhere to go on a sleeveless top.
+      std::optional<Limb> arm;
+      if (kind_ == SeamKind::Armhole) {
+        arm = s.name.rfind("left", 0) == 0 ? Limb::LeftArm : Limb::RightArm;
+        bool cuff = false;
+        for (const Opening& o : openings) cuff |= hasCuff(o, *arm);
+        if (!cuff && why.empty()) why = "the garment has no opening on that arm (no sleeve)";
+      }
+      if (!why.empty()) {
+        seam.splinesRemoved.push_back(fmt::format("{}: {}", s.name, why));
+        continue;
+      }
+      seam.splinesKept.push_back(s.name);
+      if (kind_ == SeamKind::Armhole) {
+        sleeved[*arm == Limb::LeftArm ? 0 : 1] = true;
+        // §6.1.2: zero on the projected anchors only, not on a spline through them.
+        std::vector<SurfacePoint> pts;
+        for (const ProjectedPoint& q : kept) {
+          pts.push_back(q.point);
+          prior.push_back(q.p);
+        }
+        zeros.push_back(std::move(pts));
+        for (const Opening& o : openings) {
+          if (o.limb == *arm && o.t > kCuffT)
+            addLoopConstraints(*topo, garment, o.vertices, options.boundaryConstraintSpacing, -1.0,
+                               signs);
+          for (const Opening::JoinedCuff& c : o.joinedCuffs)
+            if (c.limb == *arm)
+              addLoopConstraints(*topo, garment, c.vertices, options.boundaryConstraintSpacing,
+                                 -1.0, signs);
+        }
+      } else {
+        Eigen::MatrixX3d A(static_cast<int>(kept.size()), 3);
+        for (size_t i = 0; i < kept.size(); ++i)
+          A.row(static_cast<int>(i)) = kept[i].p.transpose();
+        std::vector<SurfacePoint> pts = surfaceSpline(*query, A, s.closed, spacing);
+        for (const SurfacePoint& q : pts) prior.push_back(q.position(garment));
+        zeros.push_back(std::move(pts));
+      }
+    }
+    // Sign points, with paired removal (§6.1.2).
+    std::vector<ProjectedPoint> q;
+    for (const SignPoint& s : f->signs) q.push_back(projector->project(s.point));
+    for (size_t i = 0; i < f->signs.size(); ++i) {
+      const SignPoint& s = f->signs[i];
+      ++seam.signs;
+      const bool partnerOk = s.pair < 0 || q[s.pair].ok();
+      if (!q[i].ok() || !partnerOk) {
+        ++seam.droppedSigns;
+        if (q[i].ok()) ++seam.pairedDrops;
+        continue;
+      }
+      signs.push_back({q[i].point, s.value});
+    }
+  }
+  if (kind_ == SeamKind::Armhole && !zeros.empty())
+    for (const Opening& o : openings)
+      if (o.name == "neckline" || o.name == "hem") {
+        // A cuff joined to the hem is the sleeve's (−1 above), not the trunk's.
+        std::vector<int> trunkPart;
+        for (int v : o.vertices) {
+          bool cuff = false;
+          for (const Opening::JoinedCuff& c : o.joinedCuffs)
+            cuff |= std::find(c.vertices.begin(), c.vertices.end(), v) != c.vertices.end();
+          if (!cuff) trunkPart.push_back(v);
+        }
+        addLoopConstraints(*topo, garment, trunkPart, options.boundaryConstraintSpacing, +1.0,
+                           signs);
+      }
+  if (kind_ == SeamKind::Armhole && !zeros.empty())
+    for (const ArmholeHint& h : armholeHints) {
+      const ClosestHit c = query->closestPoint(h.position);
+      signs.push_back({SurfacePoint{c.face, c.bary}, h.value});
+    }
+  if (kind_ == SeamKind::Armhole && !zeros.empty() && bodyLimbWeight.rows() > 0 &&
+      options.partMaxDistance > 0)
+    addBodyPartConstraints(garment, *topo, body, bodyLimbWeight, sleeved, prior, popt.bodyLength,
+                           options, seam, signs);
+  seam.prior.resize(static_cast<int>(prior.size()), 3);
+  for (size_t i = 0; i < prior.size(); ++i)
+    seam.prior.row(static_cast<int>(i)) = prior[i].transpose();
+
+  int pos = 0, neg = 0;
+  for (const ValueConstraint& c : signs) (c.value > 0 ? pos : neg)++;
+  if (zeros.empty()) {
+    seam.removedWhy = fmt::format("every spline removed ({} of {} anchors ill-projected)",
+                                  seam.droppedAnchors, seam.anchors);
+  } else if (pos == 0 || neg == 0) {
+    seam.removedWhy = fmt::format(
+        "sign points of one sign only survived ({} positive, {} "
+        "negative)",
+        pos, neg);
+  } else {
+    try {
+      if (!optimizer) throw InputError(optimizerError);
+      const Eigen::VectorXd phi0 = optimizer->initialImplicit(zeros, signs);
+      if (std::getenv("S2P_DEBUG_SEAMS")) {
+        const Isoline iso0 = extractIsoline(garment, *topo, phi0);
+        fmt::print(stderr, "seam {}: {} trunk and {} sleeve body-part points\n", seam.name,
+                   seam.trunkPoints, seam.sleevePoints);
+        fmt::print(stderr,
+                   "seam {}: {} zero sets, {} signs (+{} −{}), phi0 [{:.3f}, {:.3f}], {} curves, "
+                   "length {:.3f}\n",
+                   seam.name, zeros.size(), signs.size(), pos, neg, phi0.minCoeff(),
+                   phi0.maxCoeff(), iso0.curves.size(), iso0.length());
+        std::vector<ValueConstraint> all = signs;
+        for (const auto& z : zeros)
+          for (const auto& q : z) all.push_back({q, 0.0});
+        const Eigen::VectorXd b = biharmonicFunction(garment, all);
+        const Isoline ib = extractIsoline(garment, *topo, b);
+        fmt::print(stderr, "  biharmonic [{:.3f}, {:.3f}], {} curves, length {:.3f};",
+                   b.minCoeff(), b.maxCoeff(), ib.curves.size(), ib.length());
+        for (const auto& c : signs)
+          fmt::print(stderr, " {:+.0f}:{:.2f}", c.value, c.point.interpolate(garment.F, b));
+        fmt::print(stderr, "\n");
+      }
+      BoundaryResult r = optimizer->iterate(phi0, signs, noDisplacement);
+      if (r.vanished) {
+        seam.removedWhy = "its zero set vanished under the length regularisation";
+      } else {
+        seam.phi = std::move(r.phi);
+        seam.islandsRemoved = removeIslands(garment, seam.phi, options.minIslandArea, signs);
+        seam.line = extractIsoline(garment, *topo, seam.phi);
+        seam.kept = !seam.line.curves.empty();
+        if (!seam.kept)
+          seam.removedWhy = "its implicit function has no zero isoline on the garment";
+      }
+    } catch (const InputError& e) {
+      seam.removedWhy = std::string("no seam line: ") + e.what();
+    }
+  }
+  if (!seam.kept) seam.phi.resize(0);
+  seam.seconds = secondsSince(t0);
+  return seam;
 }
 
 // The openings of a garment on its decimated copy: the loops' vertices the copy kept.
@@ -632,12 +683,19 @@ std::vector<Opening> openingsOnCopy(const std::vector<Opening>& openings, const 
 
 }  // namespace
 
-std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
-                                    const FeatureSet& features,
-                                    const std::vector<Opening>& openings,
-                                    const SeamOptions& options,
-                                    const Eigen::MatrixXd& bodyLimbWeight,
-                                    const std::vector<ArmholeHint>& armholeHints) {
+struct SeamEstimator::Impl {
+  const TriMesh& garment;
+  std::optional<CoarseMesh> copy;
+  std::unique_ptr<SeamsOnMesh> onMesh;
+  std::unique_ptr<CoarseToFine> carry;      // copy → garment, built for the first seam kept
+  std::unique_ptr<MeshTopology> fineTopo;   // of the garment, with it
+  std::map<SeamKind, std::optional<SeamLine>> done;
+};
+
+SeamEstimator::SeamEstimator(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
+                             const FeatureSet& features, const std::vector<Opening>& openings,
+                             const SeamOptions& options, const Eigen::MatrixXd& bodyLimbWeight,
+                             const std::vector<ArmholeHint>& armholeHints) {
   validateMesh(garment, "garment");
   if (bodyLimbWeight.rows() > 0 && (bodyLimbWeight.rows() != body.numVertices() ||
                                     bodyLimbWeight.cols() != 6 || !bodyLimbWeight.allFinite()))
@@ -645,28 +703,59 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
         fmt::format("pattern: the body's limb weights are {}×{}, {}×6 finite values "
                     "expected (one row per body vertex: limbWeights of its model)",
                     bodyLimbWeight.rows(), bodyLimbWeight.cols(), body.numVertices()));
-  const std::optional<CoarseMesh> copy =
-      options.coarseVertices > 0 ? decimatedCopy(garment, options.coarseVertices) : std::nullopt;
-  if (!copy)
-    return seamsOnMesh(garment, kind, body, features, openings, options, bodyLimbWeight,
-                       armholeHints);
-  std::vector<SeamLine> seams =
-      seamsOnMesh(copy->mesh, kind, body, features,
-                  openingsOnCopy(openings, *copy, garment.numVertices()), options, bodyLimbWeight,
-                  armholeHints);
-  const CoarseToFine map(copy->mesh, garment);
-  const MeshTopology topo(garment.F, garment.numVertices());
-  for (SeamLine& seam : seams) {
-    if (!seam.kept) continue;
-    seam.phi = map.carry(seam.phi);
-    seam.line = extractIsoline(garment, topo, seam.phi);
-    seam.kept = !seam.line.curves.empty();
-    if (!seam.kept) {
-      seam.removedWhy = "its zero isoline vanished when carried from the decimated copy";
-      seam.phi.resize(0);
+  impl_ = std::make_unique<Impl>(Impl{garment, std::nullopt, nullptr, nullptr, nullptr, {}});
+  if (options.coarseVertices > 0) impl_->copy = decimatedCopy(garment, options.coarseVertices);
+  if (impl_->copy)
+    impl_->onMesh = std::make_unique<SeamsOnMesh>(
+        impl_->copy->mesh, kind, body, features,
+        openingsOnCopy(openings, *impl_->copy, garment.numVertices()), options, bodyLimbWeight,
+        armholeHints);
+  else
+    impl_->onMesh = std::make_unique<SeamsOnMesh>(garment, kind, body, features, openings,
+                                                  options, bodyLimbWeight, armholeHints);
+}
+
+SeamEstimator::~SeamEstimator() = default;
+
+const SeamLine* SeamEstimator::seam(SeamKind kind) {
+  Impl& m = *impl_;
+  auto it = m.done.find(kind);
+  if (it == m.done.end()) {
+    std::optional<SeamLine> seam = m.onMesh->estimate(kind);
+    if (seam && seam->kept && m.copy) {
+      if (!m.carry) {
+        m.carry = std::make_unique<CoarseToFine>(m.copy->mesh, m.garment);
+        m.fineTopo = std::make_unique<MeshTopology>(m.garment.F, m.garment.numVertices());
+      }
+      seam->phi = m.carry->carry(seam->phi);
+      seam->line = extractIsoline(m.garment, *m.fineTopo, seam->phi);
+      seam->kept = !seam->line.curves.empty();
+      if (!seam->kept) {
+        seam->removedWhy = "its zero isoline vanished when carried from the decimated copy";
+        seam->phi.resize(0);
+      }
     }
+    it = m.done.emplace(kind, std::move(seam)).first;
   }
-  return seams;
+  return it->second ? &*it->second : nullptr;
+}
+
+std::vector<SeamLine> SeamEstimator::all() {
+  std::vector<SeamLine> out;
+  for (SeamKind kind : {SeamKind::FrontBack, SeamKind::Armhole, SeamKind::LeftRight})
+    if (const SeamLine* s = seam(kind)) out.push_back(*s);
+  return out;
+}
+
+std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
+                                    const FeatureSet& features,
+                                    const std::vector<Opening>& openings,
+                                    const SeamOptions& options,
+                                    const Eigen::MatrixXd& bodyLimbWeight,
+                                    const std::vector<ArmholeHint>& armholeHints) {
+  return SeamEstimator(garment, kind, body, features, openings, options, bodyLimbWeight,
+                       armholeHints)
+      .all();
 }
 
 std::vector<SeamFold> armholeFolds(const TriMesh& garment, const SeamLine& seam,

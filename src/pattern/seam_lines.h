@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -171,6 +172,33 @@ std::vector<SeamLine> estimateSeams(const TriMesh& garment, GarmentKind kind, co
                                     const SeamOptions& options = {},
                                     const Eigen::MatrixXd& bodyLimbWeight = Eigen::MatrixXd(),
                                     const std::vector<ArmholeHint>& armholeHints = {});
+
+// estimateSeams one seam at a time: each seam is estimated when first asked for, on state built
+// once (the projector, the garment's topology, the seam optimiser, the decimated copy). The
+// panels stage asks for the armhole first and needs the other seams only when it keeps the
+// garment as it is (pattern/contact_opening.h). The inputs are held by reference and must
+// outlive the estimator. Throws as estimateSeams.
+class SeamEstimator {
+ public:
+  SeamEstimator(const TriMesh& garment, GarmentKind kind, const TriMesh& body,
+                const FeatureSet& features, const std::vector<Opening>& openings,
+                const SeamOptions& options = {},
+                const Eigen::MatrixXd& bodyLimbWeight = Eigen::MatrixXd(),
+                const std::vector<ArmholeHint>& armholeHints = {});
+  ~SeamEstimator();
+  SeamEstimator(const SeamEstimator&) = delete;
+  SeamEstimator& operator=(const SeamEstimator&) = delete;
+
+  // The seam of `kind`, or nullptr when the garment's kind has none (a skirt's crotch seam is
+  // there, maybe removed; a top has no crotch seam at all). Valid while the estimator lives.
+  const SeamLine* seam(SeamKind kind);
+  // Every seam of the garment's kind, in estimateSeams' order.
+  std::vector<SeamLine> all();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // One stretch of an armhole seam's isoline that runs along a fold (SeamOptions::creaseRadius).
 struct SeamFold {

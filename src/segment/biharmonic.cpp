@@ -1,9 +1,12 @@
 #include "segment/biharmonic.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "core/error.h"
@@ -64,17 +67,25 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
     if (!(area[v] > 0))
       throw InputError("biharmonic: vertex " + std::to_string(v) +
                        " has no area (unreferenced or only in degenerate faces); clean the mesh");
-  // Cotangents clamped to ±1e3 (core/laplacian.h): phone_scan's 1 mm grid left faces whose
-  // bilaplacian diagonal reached 1e36 beside a median of 1e4, and its seams could not be solved.
-  const Sparse L = cotanLaplacian(mesh, 1e3);
-  std::vector<Eigen::Triplet<double>> pattern;  // every face pair, so CᵀC ⊂ pattern(Q)
-  pattern.reserve(9 * mesh.numFaces() + nV);
-  for (int f = 0; f < mesh.numFaces(); ++f)
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) pattern.emplace_back(mesh.F(f, a), mesh.F(f, b), 0.0);
-  Sparse P(nV, nV);
-  P.setFromTriplets(pattern.begin(), pattern.end());
-  const Sparse LML = laplacianSquared(L, bilaplacianWeights(area));
+  // The operator and the pattern of face pairs (with the pieces) are built side by side.
+  Sparse LML, P(nV, nV);
+  std::optional<MeshTopology> topo;
+  tbb::parallel_invoke(
+      [&] {
+        // Cotangents clamped to ±1e3 (core/laplacian.h): phone_scan's 1 mm grid left faces
+        // whose bilaplacian diagonal reached 1e36 beside a median of 1e4, and its seams could
+        // not be solved.
+        LML = laplacianSquared(cotanLaplacian(mesh, 1e3), bilaplacianWeights(area));
+      },
+      [&] {
+        std::vector<Eigen::Triplet<double>> pattern;  // every face pair, so CᵀC ⊂ pattern(Q)
+        pattern.reserve(9 * mesh.numFaces() + nV);
+        for (int f = 0; f < mesh.numFaces(); ++f)
+          for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) pattern.emplace_back(mesh.F(f, a), mesh.F(f, b), 0.0);
+        P.setFromTriplets(pattern.begin(), pattern.end());
+        topo.emplace(mesh.F, nV);
+      });
   // A tiny Tikhonov term, relative to the operator's own scale, keeps the system positive
   // definite on a connected piece that holds no constraint (an island a previous cut left):
   // u = 0 there instead of a failed factorisation. It changes constrained solutions by ~1e-12.
@@ -88,11 +99,10 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
   for (int v = 0; v < nV; ++v) R.insert(v, v) = eps * area[v];
   d.Q = LML + P + R;
   d.w = options.penaltyWeight * diagonalScale;
-  const MeshTopology topo(mesh.F, nV);
-  d.numPieces = topo.numComponents();
+  d.numPieces = topo->numComponents();
   d.vertexPiece.resize(nV);
   for (int f = 0; f < mesh.numFaces(); ++f)
-    for (int k = 0; k < 3; ++k) d.vertexPiece[mesh.F(f, k)] = topo.faceComponent()[f];
+    for (int k = 0; k < 3; ++k) d.vertexPiece[mesh.F(f, k)] = topo->faceComponent()[f];
 }
 
 Biharmonic::~Biharmonic() = default;

@@ -1,5 +1,7 @@
 #include "segment/boundary_optimizer.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -67,8 +69,8 @@ struct BoundaryOptimizer::Impl {
   Biharmonic biharmonic;
   BoundaryTimings timings;
 
-  Impl(const TriMesh& m, const BoundaryOptions& o)
-      : mesh(m), options(o), topology(m.F, m.numVertices()), biharmonic(m, o.biharmonic) {
+  Impl(const TriMesh& m, const BoundaryOptions& o, Biharmonic&& b)
+      : mesh(m), options(o), topology(m.F, m.numVertices()), biharmonic(std::move(b)) {
     if (o.geodesic == GeodesicMethod::Heat)
       heat.emplace(m, o.heat);
     else
@@ -159,12 +161,22 @@ BoundaryOptimizer::BoundaryOptimizer(const TriMesh& mesh, const BoundaryOptions&
     throw InputError(
         "boundary optimisation: alpha > 0 (m), beta ≥ 0 (m²), maxIterations ≥ 1 "
         "and tolerance > 0 (m²) are required");
-  impl_ = std::make_unique<Impl>(mesh, options);
+  // The biharmonic's operator and the regulariser's factorisation are independent: built side
+  // by side.
+  std::optional<Biharmonic> biharmonic;
+  Eigen::SparseMatrix<double> M;
+  SpdSolver regulariser;
+  tbb::parallel_invoke([&] { biharmonic.emplace(mesh, options.biharmonic); },
+                       [&] {
+                         M = massMatrix(mesh);
+                         regulariser.compute(M + options.beta * cotanLaplacian(mesh));
+                       });
+  impl_ = std::make_unique<Impl>(mesh, options, std::move(*biharmonic));
   Impl& d = *impl_;
   d.area = vertexAreas(mesh);
   d.totalArea = d.area.sum();
-  d.M = massMatrix(mesh);
-  d.regulariser.compute(d.M + options.beta * cotanLaplacian(mesh));
+  d.M = std::move(M);
+  d.regulariser = std::move(regulariser);
   d.timings.setup = secondsSince(t0);
 }
 
