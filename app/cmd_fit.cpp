@@ -176,10 +176,6 @@ std::string patternColumns(const RunOutput& run, const Truth& truth, const Scan&
                         {"type_ok", g.typeOk},
                         {"panels_ok", g.panelsOk}});
   }
-  json armholes = json::object(), mirror = json::object(), sides = json::object();
-  for (const auto& [n, d] : ps.armholeToArmpit) armholes[n] = 1000 * d;
-  for (const auto& [n, d] : ps.mirrorAreaDiff) mirror[n] = d;
-  for (const auto& [n, a] : ps.sideSeamAngle) sides[n] = a;
   double seconds = 0;
   for (const auto& [stage, t] : run.stages)
     if (stage == "panels") seconds = t;
@@ -191,10 +187,8 @@ std::string patternColumns(const RunOutput& run, const Truth& truth, const Scan&
                     {"seam_edges", ps.seamEdges},
                     {"unpartnered", ps.unpartnered},
                     {"max_partner_mismatch", ps.maxPartnerMismatch},
-                    {"armhole_minus_armpit_mm", armholes},
-                    {"mirror_area_diff", mirror},
-                    {"side_seam_degrees", sides},
                     {"seconds", seconds}};
+  row["pattern"].update(patternScoreFigures(ps));
   const auto maxOr = [](bool any, double v, const char* fmtStr) {
     return any ? fmt::format(fmt::runtime(fmtStr), v) : std::string("–");
   };
@@ -203,8 +197,15 @@ std::string patternColumns(const RunOutput& run, const Truth& truth, const Scan&
     if (std::abs(d) > std::abs(worstArmhole)) worstArmhole = d;
   return fmt::format(" {} | {} | {}/{} | {} | {} | {} | {:.2f} |", types, sets, ps.disks, ps.panels,
                      maxOr(!ps.armholeToArmpit.empty(), 1000 * worstArmhole, "{:+.0f}"),
-                     maxOr(!ps.mirrorAreaDiff.empty(), 100 * ps.maxMirrorAreaDiff(), "{:.1f}"),
-                     maxOr(!ps.sideSeamAngle.empty(), ps.maxSideSeamAngle(), "{:.0f}"), seconds);
+                     maxOr(!ps.mirrorAreaDiff.empty(), 100 * ps.maxMirrorAreaDiff(), "{:.1f}") +
+                         (ps.mirrorClothAreaDiff.empty()
+                              ? ""
+                              : fmt::format(" ({:.1f})", 100 * ps.maxMirrorClothAreaDiff())),
+                     maxOr(!ps.sideSeamAngle.empty(), ps.maxSideSeamAngle(), "{:.0f}") +
+                         (ps.sideSeamLimbAngle.empty()
+                              ? ""
+                              : fmt::format(" ({:.0f})", ps.maxSideSeamLimbAngle())),
+                     seconds);
 }
 
 struct FitSuiteCommand {
@@ -253,7 +254,7 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
       "| preset | rotation ° | joint mean mm | joint max mm (joint) | inside or ≤5 mm % | yaw "
       "error ° | fit s |{}{}\n|---|---|---|---|---|---|---|{}{}\n",
       cmd.segment ? " garment IoU | boundary mean mm | worst p95 mm | types | panel sets | disks | "
-                    "armhole − armpit mm | mirror area % | side seam ° | panels s |"
+                    "armhole − armpit mm | mirror area % (cloth) | side seam ° (limb's plane) | panels s |"
                   : "",
       cmd.segment && cmd.drape ? " drape | draped vs scanned mean / p95 mm (top drop mm) | self-isect | "
                                  "penetrations | drape s |"

@@ -105,10 +105,6 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
   writeJson(fs::path(cmd.out) / "placement.json", placementToJson(r));
   if (!cmd.score.empty()) {
     const PatternScore ps = scorePattern(r.panels, readTruth(cmd.score), in.body, in.canonical);
-    json armholes = json::object(), mirror = json::object(), sides = json::object();
-    for (const auto& [n, d] : ps.armholeToArmpit) armholes[n] = 1000 * d;
-    for (const auto& [n, d] : ps.mirrorAreaDiff) mirror[n] = d;
-    for (const auto& [n, a] : ps.sideSeamAngle) sides[n] = a;
     // Each cuff's lowest point against the armpit: where a sleeve meets the trunk from its cuff
     // up (arms pressed to the sides), the armhole seam can come no higher than this.
     const BodyFrame frame(in.canonical);
@@ -133,16 +129,14 @@ int runPanelsCommand(const PanelsCommand& cmd, Progress& progress) {
                           {"found_panels", g.foundPanels},
                           {"type_ok", g.typeOk},
                           {"panels_ok", g.panelsOk}});
-    writeJson(fs::path(cmd.out) / "pattern_score.json",
-              {{"garments", garments},
-               {"panels", ps.panels},
-               {"disks", ps.disks},
-               {"unpartnered", ps.unpartnered},
-               {"max_partner_mismatch", ps.maxPartnerMismatch},
-               {"armhole_minus_armpit_mm", armholes},
-               {"cuff_minus_armpit_mm", cuffs},
-               {"mirror_area_diff", mirror},
-               {"side_seam_degrees", sides}});
+    json score = {{"garments", garments},
+                  {"panels", ps.panels},
+                  {"disks", ps.disks},
+                  {"unpartnered", ps.unpartnered},
+                  {"max_partner_mismatch", ps.maxPartnerMismatch},
+                  {"cuff_minus_armpit_mm", cuffs}};
+    score.update(patternScoreFigures(ps));
+    writeJson(fs::path(cmd.out) / "pattern_score.json", score);
   }
   progress.end();
   if (cmd.drape) {

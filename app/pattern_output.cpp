@@ -55,6 +55,19 @@ Rgb panelColour(int i) {
 
 }  // namespace
 
+json patternScoreFigures(const PatternScore& ps) {
+  const auto byName = [](const std::vector<std::pair<std::string, double>>& v, double scale) {
+    json o = json::object();
+    for (const auto& [n, x] : v) o[n] = scale * x;
+    return o;
+  };
+  return {{"armhole_minus_armpit_mm", byName(ps.armholeToArmpit, 1000)},
+          {"mirror_area_diff", byName(ps.mirrorAreaDiff, 1)},
+          {"mirror_cloth_area_diff", byName(ps.mirrorClothAreaDiff, 1)},
+          {"side_seam_degrees", byName(ps.sideSeamAngle, 1)},
+          {"side_seam_limb_degrees", byName(ps.sideSeamLimbAngle, 1)}};
+}
+
 json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput) {
   json garments = json::array();
   for (const GarmentPanels& g : r.garments) {

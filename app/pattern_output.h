@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/segment_output.h"
+#include "eval/pattern_metrics.h"
 #include "io/scan.h"
 #include "pattern/flat_pattern.h"
 #include "pattern/panels.h"
@@ -14,6 +15,11 @@
 namespace s2p::app {
 
 // All coordinates in the scan file's frame (toInput).
+// The figures of a pattern score that say where the seams landed, as pattern_score.json and the
+// fit-suite report write them: armhole_minus_armpit_mm, mirror_area_diff,
+// mirror_cloth_area_diff, side_seam_degrees, side_seam_limb_degrees.
+nlohmann::json patternScoreFigures(const PatternScore& ps);
+
 nlohmann::json panelsToJson(const PanelsResult& r, const Eigen::Affine3d& toInput);
 
 void writePanels(const std::filesystem::path& dir, const Scan& scan, const PanelsResult& r);

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "core/mesh_topology.h"
+#include "pattern/panel_denoise.h"
 
 namespace s2p {
 
@@ -31,9 +32,31 @@ const Panel* panelNamed(const PanelsResult& r, const GarmentPanels& g, const std
   return nullptr;
 }
 
+// A panel's area with the scanner's noise taken out as the pattern stage takes it out before
+// flattening (its corners fixed).
+double clothArea(const Panel& panel) {
+  std::vector<int> corners;
+  for (const PanelEdge& e : panel.edges) corners.push_back(e.vertices.front());
+  return surfaceArea(denoisePanel(panel.mesh, panel.loop, corners));
+}
+
+// The normal of the coronal plane of the limb nearest p: on a leg the plane through its hip and
+// ankle that holds the body's left-right axis; elsewhere the body's own (normal: front).
+Vec3 limbCoronalNormal(const BodyFrame& frame, const Vec3& p) {
+  const Limb limb = frame.nearestLimb(p).limb;
+  if (!isLeg(limb)) return frame.front();
+  const bool left = limb == Limb::LeftLeg;
+  const Vec3 axis = frame.at(left ? Canonical::LeftAnkle : Canonical::RightAnkle) -
+                    frame.at(left ? Canonical::LeftHip : Canonical::RightHip);
+  const Vec3 n = frame.left().cross(axis);
+  return n.norm() > 1e-9 ? Vec3(n.normalized()) : frame.front();
+}
+
 }  // namespace
 
 double PatternScore::maxMirrorAreaDiff() const { return maxAbs(mirrorAreaDiff); }
+double PatternScore::maxMirrorClothAreaDiff() const { return maxAbs(mirrorClothAreaDiff); }
+double PatternScore::maxSideSeamLimbAngle() const { return maxAbs(sideSeamLimbAngle); }
 double PatternScore::maxArmholeToArmpit() const { return maxAbs(armholeToArmpit); }
 double PatternScore::maxSideSeamAngle() const { return maxAbs(sideSeamAngle); }
 
@@ -96,9 +119,11 @@ PatternScore scorePattern(const PanelsResult& r, const Truth& truth, const TriMe
     for (const char* base : {"sleeve", "front", "back"}) {
       const Panel* a = panelNamed(r, g, std::string("left_") + base);
       const Panel* b = panelNamed(r, g, std::string("right_") + base);
-      if (a && b)
-        s.mirrorAreaDiff.push_back({g.name + ":" + base,
-                                    std::abs(a->area - b->area) / std::max(a->area, b->area)});
+      if (!a || !b) continue;
+      s.mirrorAreaDiff.push_back({g.name + ":" + base,
+                                  std::abs(a->area - b->area) / std::max(a->area, b->area)});
+      const double ca = clothArea(*a), cb = clothArea(*b);
+      s.mirrorClothAreaDiff.push_back({g.name + ":" + base, std::abs(ca - cb) / std::max(ca, cb)});
     }
   // Armholes against the armpit; side seams against the coronal plane.
   const double armpit[2] = {armpitHeight(body, frame, true), armpitHeight(body, frame, false)};
@@ -124,6 +149,9 @@ PatternScore scorePattern(const PanelsResult& r, const Truth& truth, const TriMe
           const Vec3 dir = es.eigenvectors().col(2);
           const double angle = std::asin(std::min(1.0, std::abs(dir.dot(frame.front())))) * 180 / M_PI;
           s.sideSeamAngle.push_back({g.name + ":" + panel.name + ":" + e.name, angle});
+          const Vec3 normal = limbCoronalNormal(frame, mean.transpose());
+          const double limbAngle = std::asin(std::min(1.0, std::abs(dir.dot(normal)))) * 180 / M_PI;
+          s.sideSeamLimbAngle.push_back({g.name + ":" + panel.name + ":" + e.name, limbAngle});
         }
       }
     }

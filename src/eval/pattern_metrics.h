@@ -30,13 +30,25 @@ struct PatternScore {
   double maxPartnerMismatch = 0;  // max |L1 − L2| / max(L1, L2) over partner edge pairs
   // |A_left − A_right| / max(A_left, A_right) per mirrored pair ("upper:sleeve", ...)
   std::vector<std::pair<std::string, double>> mirrorAreaDiff;
+  // The same with each panel's surface first taken through the pattern stage's noise filter
+  // (pattern/panel_denoise.h, 5 mm): the cloth's area. A scanner's noise adds 10–20 % to a
+  // panel's area, and not equally on both sides of a scan (noise_holes: 21 % on the left
+  // sleeve, 12 % on the right), so the raw areas also compare the noise.
+  std::vector<std::pair<std::string, double>> mirrorClothAreaDiff;
   // Per armhole seam: lowest point's height minus the body's armpit height on that side (m).
   std::vector<std::pair<std::string, double>> armholeToArmpit;
   // Per side seam: angle (degrees) between its main direction and the body's coronal plane.
   std::vector<std::pair<std::string, double>> sideSeamAngle;
+  // The same against the coronal plane of the limb the seam runs along: on a leg, the plane
+  // through the hip-to-ankle axis and the body's left-right axis. A trouser seam on a striding
+  // leg follows the leg, which is swung out of the body's plane by the stride; on a standing
+  // body the two figures are the same.
+  std::vector<std::pair<std::string, double>> sideSeamLimbAngle;
   double maxMirrorAreaDiff() const;
   double maxArmholeToArmpit() const;  // of the absolute values
   double maxSideSeamAngle() const;
+  double maxMirrorClothAreaDiff() const;
+  double maxSideSeamLimbAngle() const;
 };
 
 // Scores `r` against the truth's garments (matched by label: the upper, lower or one-piece
