@@ -41,7 +41,7 @@ Sparse restricted(const Sparse& A, const std::vector<int>& newIndex, int n) {
 struct Biharmonic::Impl {
   TriMesh mesh;
   BiharmonicOptions options;
-  Sparse Q;      // L M⁻¹ L + εM, with explicit zeros on every face pair
+  Sparse Q;      // L M⁻¹ L + εM, with an entry (maybe 0) for every pair of a face's vertices
   double w = 0;  // penalty weight
   SpdSolver solver;
   bool analysed = false;
@@ -67,8 +67,10 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
     if (!(area[v] > 0))
       throw InputError("biharmonic: vertex " + std::to_string(v) +
                        " has no area (unreferenced or only in degenerate faces); clean the mesh");
-  // The operator and the pattern of face pairs (with the pieces) are built side by side.
-  Sparse LML, P(nV, nV);
+  // The operator and the pieces are found side by side. L holds an entry, maybe 0, for every
+  // edge and vertex, so L M⁻¹ L holds one for every pair of vertices of a face: CᵀC of any
+  // constraints lies in the pattern of Q, and each solve refactors the one analysis.
+  Sparse LML;
   std::optional<MeshTopology> topo;
   tbb::parallel_invoke(
       [&] {
@@ -77,15 +79,7 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
         // not be solved.
         LML = laplacianSquared(cotanLaplacian(mesh, 1e3), bilaplacianWeights(area));
       },
-      [&] {
-        std::vector<Eigen::Triplet<double>> pattern;  // every face pair, so CᵀC ⊂ pattern(Q)
-        pattern.reserve(9 * mesh.numFaces() + nV);
-        for (int f = 0; f < mesh.numFaces(); ++f)
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) pattern.emplace_back(mesh.F(f, a), mesh.F(f, b), 0.0);
-        P.setFromTriplets(pattern.begin(), pattern.end());
-        topo.emplace(mesh.F, nV);
-      });
+      [&] { topo.emplace(mesh.F, nV); });
   // A tiny Tikhonov term, relative to the operator's own scale, keeps the system positive
   // definite on a connected piece that holds no constraint (an island a previous cut left):
   // u = 0 there instead of a failed factorisation. It changes constrained solutions by ~1e-12.
@@ -97,7 +91,7 @@ Biharmonic::Biharmonic(const TriMesh& mesh, const BiharmonicOptions& options)
   Sparse R(nV, nV);
   R.reserve(Eigen::VectorXi::Constant(nV, 1));
   for (int v = 0; v < nV; ++v) R.insert(v, v) = eps * area[v];
-  d.Q = LML + P + R;
+  d.Q = LML + R;
   d.w = options.penaltyWeight * diagonalScale;
   d.numPieces = topo->numComponents();
   d.vertexPiece.resize(nV);
