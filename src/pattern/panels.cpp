@@ -13,6 +13,7 @@
 #include <numeric>
 #include <optional>
 #include <queue>
+#include <set>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -323,6 +324,7 @@ class GarmentPanelizer {
     }
     garment_.mesh = std::move(c.mesh);
     garment_.faceOrigin = std::move(c.faceOrigin);
+    for (const OpenedContact& o : c.opened) opened_.insert(o.side);
     for (const OpenedContact& o : c.opened)
       gp.notes.push_back(fmt::format(
           "{} armhole: the scan fused sleeve and trunk below the armpit along a crease {:.0f} mm "
@@ -346,9 +348,13 @@ class GarmentPanelizer {
   // scan fused the sleeve to the trunk (armholeFolds) and the contact was left fused: there the
   // seam cannot pass under the arm at the armpit. (Above the armpit a fold is the arm's root.)
   void noteFolds(const TriMesh& mesh, const SeamLine& armhole, GarmentPanels& gp) {
+    if (opened_.size() == 2) return;
     const std::vector<SeamFold> folds = armholeFolds(mesh, armhole, options_.seams);
     if (folds.empty()) return;
     for (const char* side : {"left", "right"}) {
+      // An opened contact's lips and membranes make folds of their own beside the crease it cut,
+      // which a stray stretch of the isoline can follow; the panels no longer do.
+      if (opened_.count(side)) continue;
       double length = 0, top = -std::numeric_limits<double>::infinity(),
              low = std::numeric_limits<double>::infinity();
       for (const SeamFold& f : folds) {
@@ -804,6 +810,7 @@ class GarmentPanelizer {
   std::vector<PanelMesh> meshes_;
   Eigen::VectorXd visibility_;
   std::optional<std::array<double, 2>> armpit_;
+  std::set<std::string> opened_;  // the sides whose fused contact was opened
   int merged_ = 0;
 };
 
