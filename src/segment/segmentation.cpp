@@ -458,8 +458,8 @@ class Segmenter {
     if (underBody && options.geometry.enabled) {
       validateMesh(*underBody, "body under the clothes");
       progress_.begin("offset from the body under the clothes");
-      const MeshQuery under(*underBody);
-      root_.offset = bodyOffset(scan, under, *underBody, &root_.bodyNormal);
+      underQuery_ = std::make_unique<MeshQuery>(*underBody);
+      root_.offset = bodyOffset(scan, *underQuery_, *underBody, &root_.bodyNormal);
       root_.step = coarseStepField(scan, root_.offset, root_.smoothOffset);
       progress_.end();
     }
@@ -1285,7 +1285,8 @@ class Segmenter {
       // (+1) whatever their colour: the paper calls their colours meaningless, and a cap patch in
       // the garment's colour (φ_d = −1) cancelled φ_dn and held the hem on the cap under a long
       // skirt; on a coarse cap the normals near the rim are tilted and φ_dn alone is weak.
-      const std::vector<bool> gap = gapVertices(stage.mesh, phiDn, *bodyQuery_, options_.gapReach);
+      const std::vector<bool> gap = gapVertices(
+          stage.mesh, phiDn, underQuery_ ? *underQuery_ : *bodyQuery_, options_.gapReach);
       Eigen::VectorXd phiGap = phiD + phiDn;
       for (int v = 0; v < phiGap.size(); ++v)
         if (gap[v]) phiGap[v] = 1;
@@ -1675,6 +1676,9 @@ class Segmenter {
   int regionPoints_ = 0, droppedRegionPoints_ = 0;
   Stage root_;
   std::unique_ptr<MeshQuery> bodyQuery_;
+  // The body under the clothes (§4's fit), when given: the gap test measures against it, since
+  // the fully fitted body follows the scan into a loose sleeve and puts its cap on the body.
+  std::unique_ptr<MeshQuery> underQuery_;
   std::vector<std::string> projectionNotes_;  // fallbacks of the feature projection
   std::vector<std::string> skipNotes_;        // boundaries skipped (optimiseAndCut)
   std::vector<std::string> pieceNotes_;  // pieces sent to the side their region points say

@@ -67,9 +67,11 @@ struct SegmentationOptions {
   double gapMinShift = 0.01;
   // §5.2: in the second pass gap-filling triangles push off the garment whatever their colour:
   // vertices facing along the boundary's plane normal whose inward normal meets no body within
-  // twice this (m), in a connected set reaching farther than this from the body
-  // (segmentation.cpp, gapVertices).
-  double gapReach = 0.05;
+  // twice this (m), in a connected set reaching farther than this from the body (the body under
+  // the clothes when given; segmentation.cpp, gapVertices). A fitted hem's riser spans its ease
+  // (the generator's reach 1.9 cm at a hem); the cap closing a loose sleeve around the wrist spans
+  // 3–4 cm and the one under a skirt more (5 cm missed jacket_layered's cuffs).
+  double gapReach = 0.03;
   bool gapFilling = true;
   // With the body under the clothes, the second pass's φ_dn (Eq. 5) counts only where the scan
   // turns away from that body: fully where its normal lies 60° or more off the body's (a riser,

@@ -14,6 +14,7 @@
 #include "eval/boundary_metrics.h"
 #include "eval/evaluation.h"
 #include "eval/labelling.h"
+#include "fit/nonrigid_icp.h"
 #include "synth_cases.h"
 
 namespace s2p {
@@ -182,6 +183,38 @@ TEST(Segmentation, ASkirtsOpenRimAroundTheLegsPieceIsItsHem_Slow) {
       EXPECT_GT(b.roughness, 0.9);  // the whole hem, not fragments
     }
   EXPECT_TRUE(found);
+}
+
+// §5.2 at a loose sleeve's cuff, with the body as the pipeline has it: the shape-and-pose fit under
+// the clothes, and that body pulled onto the scan surface by the non-rigid ICP of §5.1.2, which
+// follows the jacket's sleeve out to its rim. The cap that closes the sleeve around the wrist
+// (garment-coloured, 3–4 cm wide) is a gap, so the sleeve ends at its rim: measured from the
+// pulled-on body the cap lay on the body, no vertex of it was a gap and the cuff stayed at the
+// wrist (none of the cap on the skin side).
+TEST(Segmentation, LooseSleeveEndsAtItsRimNotAtTheWrist_Slow) {
+  const Case& c = synthCase("jacket_layered", 50000);
+  const TriMesh onScan = runNonrigidIcp(c.body.posed.mesh, c.scan.scan.mesh).mesh;
+  const Segmentation seg = segmentScan(c.scan.scan.mesh, c.scan.scan.colour, onScan,
+                                       c.body.posed.mesh, c.body.features);
+  const Eigen::VectorXd area = faceAreas(c.scan.scan.mesh);
+  double gap = 0, gapOnSkin = 0;
+  for (int f = 0; f < area.size(); ++f)
+    if (c.scan.faceLabel[f] == static_cast<int>(Label::Gap)) {
+      gap += area[f];
+      if (seg.faceLabel[f] == static_cast<int>(Label::Skin)) gapOnSkin += area[f];
+    }
+  ASSERT_GT(gap, 0.005);  // m², both cuffs' caps
+  EXPECT_GT(gapOnSkin / gap, 0.6);
+  // The cuffs: two loops as long as the sleeve's rim (40 cm), not the wrist (16 cm).
+  int cuffs = 0;
+  for (const Eigen::MatrixX3d& curve : seg.boundaries.at(0).finalCurves) {
+    if (curve.col(1).mean() > 1.2) continue;  // the neckline
+    double len = 0;
+    for (int i = 0; i + 1 < curve.rows(); ++i) len += (curve.row(i + 1) - curve.row(i)).norm();
+    cuffs += len > 0.3;
+  }
+  EXPECT_EQ(cuffs, 2);
+  EXPECT_GE(score(c, seg).meanGarmentIoU, 0.98);
 }
 
 // The scan with every vertex of one label painted in the skin's own colours (a bare torso or
