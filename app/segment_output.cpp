@@ -26,6 +26,15 @@ Eigen::MatrixX3d toFrame(const Eigen::Affine3d& t, const Eigen::MatrixX3d& P) {
   return ((t.linear() * P.transpose()).colwise() + t.translation()).transpose();
 }
 
+// §5.2's wide sets of gap candidates: each one's ΔE00 from the garment beside it and whether it
+// was taken as a gap.
+json gapSets(const BoundaryReport& b) {
+  json out = json::array();
+  for (const auto& [deltaE, gap] : b.gapSetDeltaE)
+    out.push_back({{"delta_e_from_garment", deltaE}, {"gap", gap}});
+  return out;
+}
+
 json curvesJson(const std::vector<Eigen::MatrixX3d>& curves, const std::vector<bool>& closed,
                 const Eigen::Affine3d& toInput) {
   json out = json::array();
@@ -157,6 +166,7 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                     {"gap_pass", b.gapPass},
                     {"gap_applied", b.gapApplied},
                     {"gap_shift_m", b.gapShift},
+                    {"gap_sets", gapSets(b)},
                     {"islands_removed", b.islandsRemoved},
                     {"geometry_weight", b.geometryWeight},
                     {"high_side", b.highSide},

@@ -1,6 +1,7 @@
 #include "core/colour.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -233,6 +234,18 @@ Eigen::VectorXd deltaE2000(const Eigen::MatrixX3d& lab1, const Eigen::MatrixX3d&
   for (Eigen::Index i = 0; i < lab1.rows(); ++i)
     out(i) = deltaE2000(Eigen::Vector3d(lab1.row(i).transpose()),
                         Eigen::Vector3d(lab2.row(i).transpose()));
+  return out;
+}
+
+Eigen::Vector3d medianColour(const Eigen::MatrixX3d& colours, const std::vector<int>& rows) {
+  if (rows.empty()) throw InputError("medianColour: no rows");
+  Eigen::Vector3d out;
+  std::vector<double> c(rows.size());
+  for (int k = 0; k < 3; ++k) {
+    for (size_t i = 0; i < rows.size(); ++i) c[i] = colours(rows[i], k);
+    std::nth_element(c.begin(), c.begin() + static_cast<long>(c.size() / 2), c.end());
+    out[k] = c[c.size() / 2];
+  }
   return out;
 }
 

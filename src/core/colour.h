@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace s2p {
 
@@ -48,5 +49,8 @@ double deltaE2000(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2, doub
 // Row-wise: #N (rows of lab1 and lab2 must match; InputError otherwise).
 Eigen::VectorXd deltaE76(const Eigen::MatrixX3d& lab1, const Eigen::MatrixX3d& lab2);
 Eigen::VectorXd deltaE2000(const Eigen::MatrixX3d& lab1, const Eigen::MatrixX3d& lab2);
+// Per-channel median of the rows `rows` of `colours` (#N×3, any colour space); InputError when
+// `rows` is empty.
+Eigen::Vector3d medianColour(const Eigen::MatrixX3d& colours, const std::vector<int>& rows);
 
 }  // namespace s2p

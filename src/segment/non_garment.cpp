@@ -34,18 +34,6 @@ double angularSpan(const Eigen::MatrixX3d& V, const std::vector<int>& vertices, 
   return (2 * M_PI - gap) * 180 / M_PI;
 }
 
-// Per-channel median of the colours of `vertices` (non-empty).
-Vec3 medianColour(const Eigen::MatrixX3d& lab, const std::vector<int>& vertices) {
-  Vec3 out;
-  std::vector<double> c(vertices.size());
-  for (int k = 0; k < 3; ++k) {
-    for (size_t i = 0; i < vertices.size(); ++i) c[i] = lab(vertices[i], k);
-    std::nth_element(c.begin(), c.begin() + static_cast<long>(c.size() / 2), c.end());
-    out[k] = c[c.size() / 2];
-  }
-  return out;
-}
-
 double nearestComponent(const GaussianMixture& g, const Vec3& lab) {
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k < g.components(); ++k)

@@ -18,6 +18,7 @@
 #include "core/laplacian.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
+#include "core/row_tree.h"
 #include "core/stage_error.h"
 #include "segment/garment_completion.h"
 #include "segment/mesh_cut.h"
@@ -335,9 +336,16 @@ void onlyWhereTurnedAway(const TriMesh& mesh, const Eigen::MatrixX3d& bodyNormal
 // body an ease away; the cap that closes a skirt's hem looks up into the skirt). A connected
 // set of candidates is a gap when some of it lies farther than `reach` from the body: the cap
 // spans the gap out to a skirt's rim, while the riser under a fitted hem is an ease wide and
-// counts as garment (so does the generator's truth).
+// counts as garment (so does the generator's truth). And when its colour is not the garment's
+// beside it (the non-candidates within `reach` on the garment's side, φ < 0): §5.2's filling
+// triangles carry "meaningless colours", what the cameras saw through the gap (a garment's
+// inside in its own shadow, the skin beyond), while a collar standing off the neck or the
+// surface closing a thick garment at its edge is cloth in the cloth's colour. `sameColour` is
+// that test's ΔE00; each wide set's ΔE is appended to `deltaE` when given.
 std::vector<bool> gapVertices(const TriMesh& mesh, const Eigen::VectorXd& phiDn,
-                              const MeshQuery& body, double reach) {
+                              const MeshQuery& body, double reach, const Eigen::MatrixX3d& lab,
+                              const Eigen::VectorXd& phi, double sameColour,
+                              std::vector<std::pair<double, bool>>* deltaE = nullptr) {
   const int nV = mesh.numVertices();
   const Eigen::MatrixX3d N = vertexNormals(mesh);
   std::vector<bool> candidate(nV, false);
@@ -357,6 +365,33 @@ std::vector<bool> gapVertices(const TriMesh& mesh, const Eigen::VectorXd& phiDn,
     if (candidate[v] && !wide[regions.region[v]] &&
         body.closestPoint(mesh.V.row(v).transpose()).distance > reach)
       wide[regions.region[v]] = true;
+  // The colour test, per wide set.
+  std::vector<int> wideVertices;
+  std::vector<std::vector<int>> own(regions.count), beside(regions.count);
+  for (int v = 0; v < nV; ++v)
+    if (candidate[v] && wide[regions.region[v]]) {
+      wideVertices.push_back(v);
+      own[regions.region[v]].push_back(v);
+    }
+  if (!wideVertices.empty() && lab.rows() == nV && phi.size() == nV) {
+    const RowCloud cloud{&mesh.V, &wideVertices};
+    RowTree tree(3, cloud);
+    tree.buildIndex();
+    for (int v = 0; v < nV; ++v) {
+      if (candidate[v] || !(phi[v] < 0)) continue;
+      std::uint32_t idx = 0;
+      double d2 = 0;
+      const Vec3 p = mesh.V.row(v).transpose();
+      tree.knnSearch(p.data(), 1, &idx, &d2);
+      if (d2 <= reach * reach) beside[regions.region[wideVertices[idx]]].push_back(v);
+    }
+    for (int r = 0; r < regions.count; ++r) {
+      if (!wide[r] || beside[r].empty()) continue;
+      const double d = deltaE2000(medianColour(lab, own[r]), medianColour(lab, beside[r]));
+      wide[r] = d >= sameColour;
+      if (deltaE) deltaE->push_back({d, wide[r]});
+    }
+  }
   std::vector<bool> out(nV, false);
   for (int v = 0; v < nV; ++v) out[v] = candidate[v] && wide[regions.region[v]];
   return out;
@@ -1285,8 +1320,10 @@ class Segmenter {
       // (+1) whatever their colour: the paper calls their colours meaningless, and a cap patch in
       // the garment's colour (φ_d = −1) cancelled φ_dn and held the hem on the cap under a long
       // skirt; on a coarse cap the normals near the rim are tilted and φ_dn alone is weak.
-      const std::vector<bool> gap = gapVertices(
-          stage.mesh, phiDn, underQuery_ ? *underQuery_ : *bodyQuery_, options_.gapReach);
+      const std::vector<bool> gap =
+          gapVertices(stage.mesh, phiDn, underQuery_ ? *underQuery_ : *bodyQuery_,
+                      options_.gapReach, stage.lab, run.result.phi, options_.gapSameColourDeltaE,
+                      &rep.gapSetDeltaE);
       Eigen::VectorXd phiGap = phiD + phiDn;
       for (int v = 0; v < phiGap.size(); ++v)
         if (gap[v]) phiGap[v] = 1;

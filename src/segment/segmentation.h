@@ -72,6 +72,12 @@ struct SegmentationOptions {
   // (the generator's reach 1.9 cm at a hem); the cap closing a loose sleeve around the wrist spans
   // 3–4 cm and the one under a skirt more (5 cm missed jacket_layered's cuffs).
   double gapReach = 0.03;
+  // ... and is not in the garment's colour beside it: a set whose median colour lies within
+  // this ΔE00 of the garment's within gapReach of it is cloth (a collar, the surface closing a
+  // thick garment's edge). 2 is CIEDE2000's just-noticeable difference, as for held objects.
+  // Width alone cannot tell them apart: the outside test scans' shells close 3–4.6 cm from the
+  // fitted body under the clothes, in the garment's colour, and are labelled cloth.
+  double gapSameColourDeltaE = 2.0;
   bool gapFilling = true;
   // With the body under the clothes, the second pass's φ_dn (Eq. 5) counts only where the scan
   // turns away from that body: fully where its normal lies 60° or more off the body's (a riser,
@@ -127,6 +133,9 @@ struct BoundaryReport {
   bool gapPass = false;     // the Eq. 6 pass was run
   bool gapApplied = false;  // ... and its boundary was kept
   double gapShift = 0;      // 95th percentile distance (m) between the two passes' boundaries
+  // Per connected set of gap candidates reaching past gapReach: its ΔE00 from the garment beside
+  // it, and whether it was taken as a gap (else cloth in the garment's colour).
+  std::vector<std::pair<double, bool>> gapSetDeltaE;
   int islandsRemoved = 0;   // regions below minRegionArea merged into their surroundings
   double geometryWeight = 0;  // weight of the step field in the displacement (0: colour alone)
   double highSide = 0;        // +1: the outer garment on the positive side; −1: on the negative

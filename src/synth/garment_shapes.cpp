@@ -147,7 +147,8 @@ double GarmentLayer::region(const RestSkeleton& skel, const RestSkeleton::Locati
     double s = loc.t * loc.length;  // arc length from the shoulder joint
     if (loc.part == BodyPart::LeftForearm || loc.part == BodyPart::RightForearm) s += lu;
     if (loc.part == BodyPart::LeftHand || loc.part == BodyPart::RightHand) s += lu + lf;
-    const double sHem = armT < 0 ? -0.015 : armT <= 1 ? armT * lu : lu + (armT - 1) * lf;
+    double sHem = armT < 0 ? -0.015 : armT <= 1 ? armT * lu : lu + (armT - 1) * lf;
+    if (looseArmFrom >= 0) sHem = std::min(sHem, looseArmFrom * lu);
     r = std::min(r, sHem - s);
   } else if (isLeg(loc.part)) {
     const bool left = loc.part == BodyPart::LeftThigh || loc.part == BodyPart::LeftShin ||
@@ -157,7 +158,8 @@ double GarmentLayer::region(const RestSkeleton& skel, const RestSkeleton::Locati
     double s = loc.t * loc.length;
     if (loc.part == BodyPart::LeftShin || loc.part == BodyPart::RightShin) s += lt;
     if (loc.part == BodyPart::LeftFoot || loc.part == BodyPart::RightFoot) s = lt + ls + 0.05;
-    const double sHem = legT < 0 ? 0.0 : legT <= 1 ? legT * lt : lt + (legT - 1) * ls;
+    double sHem = legT < 0 ? 0.0 : legT <= 1 ? legT * lt : lt + (legT - 1) * ls;
+    if (looseLegFrom >= 0) sHem = std::min(sHem, looseLegFrom * lt);
     r = std::min(r, sHem - s);
   } else if (loc.part == BodyPart::Head) {
     r = std::min(r, -0.01);
@@ -421,6 +423,9 @@ GarmentLayers::GarmentLayers(const PosedBody& rest, const PosedBody& posed, cons
         L.cones.push_back(cone);
         return cone.rb;
       };
+      // The body-following part ends 0.15 of the limb inside the cone (which starts at 0.3).
+      if (L.armT > 0) L.looseArmFrom = 0.45;
+      if (L.legT > 0) L.looseLegFrom = 0.45;
       const bool sides[2] = {true, false};
       for (bool left : sides) {
         if (L.armT > 0) {

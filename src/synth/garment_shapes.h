@@ -81,6 +81,11 @@ struct GarmentLayer {
   Eigen::Vector3d neck = Eigen::Vector3d::Zero();  // rest neck joint (axis through it along y)
   double armT = -1;              // arm hem: < 0 no arm; [0,1] upper arm t; [1,2] forearm 1+t
   double legT = -1;              // leg hem: < 0 no leg; [0,1] thigh t; [1,2] shin 1+t
+  // Where a loose sleeve's or trouser leg's cone takes over (fraction of the upper arm or thigh,
+  // < 0: not loose): the body-following part ends a little below, hidden inside the cone. Left
+  // to run on to the hem, its end face came out through the cone's cap as a ring of cloth
+  // around the wrist, which no loose sleeve has.
+  double looseArmFrom = -1, looseLegFrom = -1;
   bool feetOnly = false;         // shoes: foot and the shin below shoeT
   double shoeT = 0.9;            // shoes: upper cut on the shin (t from the knee)
   bool hairScalp = false;        // hair: head above the forehead and behind the ears
