@@ -254,7 +254,8 @@ int runFitSuite(const FitSuiteCommand& cmd, Progress& progress) {
       "| preset | rotation ° | joint mean mm | joint max mm (joint) | inside or ≤5 mm % | yaw "
       "error ° | fit s |{}{}\n|---|---|---|---|---|---|---|{}{}\n",
       cmd.segment ? " garment IoU | boundary mean mm | worst p95 mm | types | panel sets | disks | "
-                    "armhole − armpit mm | mirror area % (cloth) | side seam ° (limb's plane) | panels s |"
+                    "armhole − armpit mm | mirror area % (cloth) | side seam ° (limb's plane) | "
+                    "panels s |"
                   : "",
       cmd.segment && cmd.drape ? " drape | draped vs scanned mean / p95 mm (top drop mm) | self-isect | "
                                  "penetrations | drape s |"
