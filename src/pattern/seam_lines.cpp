@@ -1,8 +1,7 @@
 #include "pattern/seam_lines.h"
 
-#include <tbb/parallel_invoke.h>
-
 #include <fmt/format.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
@@ -10,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <exception>
 #include <map>
 #include <memory>
 #include <optional>
@@ -420,7 +420,8 @@ class SeamsOnMesh {
     bopt.maxIterations = std::max(1, options.regularisationSteps);
     bopt.dropStrayCurves = false;
     // The seam optimiser is built beside the projector: nearly every garment keeps a seam. An
-    // error building it is the first kept seam's reason for having no line.
+    // error building it is raised where the first kept seam needs it, as when it was built
+    // there: an InputError is that seam's reason for having no line, any other error goes up.
     tbb::parallel_invoke(
         [&] {
           projector.emplace(body, garment, popt);
@@ -430,8 +431,8 @@ class SeamsOnMesh {
         [&] {
           try {
             optimizer.emplace(garment, bopt);
-          } catch (const InputError& e) {
-            optimizerError = e.what();
+          } catch (const Error&) {
+            optimizerError = std::current_exception();
           }
         });
   }
@@ -456,7 +457,7 @@ class SeamsOnMesh {
   std::optional<MeshQuery> query;
   std::optional<MeshTopology> topo;
   std::optional<BoundaryOptimizer> optimizer;
-  std::string optimizerError;  // when it could not be built
+  std::exception_ptr optimizerError;  // why it could not be built
 };
 
 std::optional<SeamLine> SeamsOnMesh::estimate(SeamKind kind_) {
@@ -624,7 +625,7 @@ std::optional<SeamLine> SeamsOnMesh::estimate(SeamKind kind_) {
         pos, neg);
   } else {
     try {
-      if (!optimizer) throw InputError(optimizerError);
+      if (!optimizer) std::rethrow_exception(optimizerError);
       const Eigen::VectorXd phi0 = optimizer->initialImplicit(zeros, signs);
       if (std::getenv("S2P_DEBUG_SEAMS")) {
         const Isoline iso0 = extractIsoline(garment, *topo, phi0);
