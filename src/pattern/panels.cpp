@@ -976,6 +976,7 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
   // warning, and only when no garment makes one is the error raised.
   std::exception_ptr lastError;
   for (size_t g = 0; g < garments.size(); ++g) {
+    for (std::string& w : own[g].warnings) result.warnings.push_back(std::move(w));
     if (failed[g]) {
       try {
         std::rethrow_exception(failed[g]);
@@ -1000,7 +1001,6 @@ PanelsResult runPanels(const PanelsInput& input, const PanelOptions& options) {
       for (int& p : gp.panels) p += panelOffset;
       result.garments.push_back(std::move(gp));
     }
-    for (std::string& w : own[g].warnings) result.warnings.push_back(std::move(w));
   }
   if (result.garments.empty() && lastError) std::rethrow_exception(lastError);
   result.seconds = secondsSince(t0);
