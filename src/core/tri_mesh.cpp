@@ -1,5 +1,6 @@
 #include "core/tri_mesh.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -15,6 +16,16 @@ BoundingBox boundingBox(const Eigen::MatrixX3d& V) {
   box.min = V.colwise().minCoeff().transpose();
   box.max = V.colwise().maxCoeff().transpose();
   return box;
+}
+
+FittedPlane fitPlane(const std::vector<Eigen::Vector3d>& points) {
+  FittedPlane plane;
+  for (const Eigen::Vector3d& p : points) plane.centre += p;
+  plane.centre /= static_cast<double>(points.size());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : points) C += (p - plane.centre) * (p - plane.centre).transpose();
+  plane.axes = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvectors();
+  return plane;
 }
 
 Eigen::MatrixX3d faceNormals(const TriMesh& mesh) {

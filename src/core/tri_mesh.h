@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 namespace s2p {
 
@@ -23,6 +24,15 @@ struct BoundingBox {
 };
 
 BoundingBox boundingBox(const Eigen::MatrixX3d& V);
+
+// The least-squares plane through points: their centroid and the eigenvectors of their
+// covariance, column 0 the normal (least spread), column 2 the longest direction.
+struct FittedPlane {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d normal() const { return axes.col(0); }
+};
+FittedPlane fitPlane(const std::vector<Eigen::Vector3d>& points);  // points non-empty
 
 Eigen::MatrixX3d faceNormals(const TriMesh& mesh);     // #F×3 unit normals (zero for degenerate)
 Eigen::VectorXd faceAreas(const TriMesh& mesh);        // #F

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 
 #include "core/error.h"
@@ -21,14 +20,9 @@ std::optional<LoopFill> fillLoop(const std::vector<Eigen::Vector3d>& outline, do
   };
   const int nB = static_cast<int>(outline.size());
   if (nB < 3) return fail("the loop has fewer than 3 points");
-  Vec3 centre = Vec3::Zero();
-  for (const Vec3& p : outline) centre += p;
-  centre /= nB;
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : outline) cov += (p - centre) * (p - centre).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  const Vec3 n = eig.eigenvectors().col(0), u = eig.eigenvectors().col(2),
-             w = eig.eigenvectors().col(1);
+  const FittedPlane plane = fitPlane(outline);
+  const Vec3 centre = plane.centre, n = plane.axes.col(0), u = plane.axes.col(2),
+             w = plane.axes.col(1);
   // remeshPanel takes the outline as edges that join up: the loop's two halves.
   const int half = nB / 2;
   Eigen::MatrixX2d e0(half + 1, 2), e1(nB - half + 1, 2);

@@ -153,27 +153,12 @@ HeldObjects findHeldObjects(const TriMesh& mesh, const Eigen::VectorXd& offset, 
   // own level by as much as one walks up the side, so the edge found at `edge` lies edge − level
   // up the side, and is moved down by that geodesic distance (exact for sides square on the
   // garment, short of the crease for sides meeting it at a shallower angle).
+  const std::vector<std::vector<int>> besideVertices =
+      besideSets(mesh.V, objectOf, static_cast<int>(out.objects.size()), options.besideBand,
+                 [&](int v) { return offset[v] <= edge; });
   std::vector<std::vector<double>> beside(out.objects.size());
-  std::vector<std::vector<int>> besideVertices(out.objects.size());
-  {
-    std::vector<int> objectVertices;
-    for (int v = 0; v < nV; ++v)
-      if (objectOf[v] >= 0) objectVertices.push_back(v);
-    const RowCloud objectCloud{&mesh.V, &objectVertices};
-    RowTree objectTree(3, objectCloud);
-    objectTree.buildIndex();
-    for (int v = 0; v < nV; ++v) {
-      if (objectOf[v] >= 0 || offset[v] > edge) continue;
-      std::uint32_t idx = 0;
-      double d2 = 0;
-      const Vec3 p = mesh.V.row(v).transpose();
-      objectTree.knnSearch(p.data(), 1, &idx, &d2);
-      if (d2 <= options.besideBand * options.besideBand) {
-        beside[objectOf[objectVertices[idx]]].push_back(offset[v]);
-        besideVertices[objectOf[objectVertices[idx]]].push_back(v);
-      }
-    }
-  }
+  for (size_t i = 0; i < beside.size(); ++i)
+    for (int v : besideVertices[i]) beside[i].push_back(offset[v]);
   if (lab) {
     // An object in the colour of the garment it stands on is a lump of that garment: left out.
     std::vector<std::vector<int>> own(out.objects.size());

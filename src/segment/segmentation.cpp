@@ -18,7 +18,6 @@
 #include "core/laplacian.h"
 #include "core/mesh_query.h"
 #include "core/mesh_topology.h"
-#include "core/row_tree.h"
 #include "core/stage_error.h"
 #include "segment/garment_completion.h"
 #include "segment/mesh_cut.h"
@@ -265,23 +264,6 @@ std::vector<Eigen::MatrixX3d> curvePolylines(const Isoline& iso, std::vector<boo
   return out;
 }
 
-// The least-squares plane through `points` (≥ 3): their centroid and the principal axes, column 0
-// the normal (smallest spread), column 2 the longest direction.
-struct FittedPlane {
-  Vec3 centre = Vec3::Zero();
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
-  Vec3 normal() const { return axes.col(0); }
-};
-FittedPlane fitPlane(const std::vector<Vec3>& points) {
-  FittedPlane plane;
-  for (const Vec3& p : points) plane.centre += p;
-  plane.centre /= static_cast<double>(points.size());
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : points) C += (p - plane.centre) * (p - plane.centre).transpose();
-  plane.axes = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvectors();
-  return plane;
-}
-
 // Eq. (5): φ_dn(u) = max(2(|o·n_u| − ½), 0) with o the normal of the plane fitted to the
 // boundary curve nearest to u (one plane per loop: two ankle loops of a walking pose are not
 // coplanar). Only vertices within `band` metres of the boundary get it.
@@ -365,32 +347,21 @@ std::vector<bool> gapVertices(const TriMesh& mesh, const Eigen::VectorXd& phiDn,
     if (candidate[v] && !wide[regions.region[v]] &&
         body.closestPoint(mesh.V.row(v).transpose()).distance > reach)
       wide[regions.region[v]] = true;
-  // The colour test, per wide set.
-  std::vector<int> wideVertices;
-  std::vector<std::vector<int>> own(regions.count), beside(regions.count);
+  // The colour test, per wide set, against the garment's side beside it.
+  std::vector<int> setOf(nV, -1);
+  std::vector<std::vector<int>> own(regions.count);
   for (int v = 0; v < nV; ++v)
     if (candidate[v] && wide[regions.region[v]]) {
-      wideVertices.push_back(v);
+      setOf[v] = regions.region[v];
       own[regions.region[v]].push_back(v);
     }
-  if (!wideVertices.empty() && lab.rows() == nV && phi.size() == nV) {
-    const RowCloud cloud{&mesh.V, &wideVertices};
-    RowTree tree(3, cloud);
-    tree.buildIndex();
-    for (int v = 0; v < nV; ++v) {
-      if (candidate[v] || !(phi[v] < 0)) continue;
-      std::uint32_t idx = 0;
-      double d2 = 0;
-      const Vec3 p = mesh.V.row(v).transpose();
-      tree.knnSearch(p.data(), 1, &idx, &d2);
-      if (d2 <= reach * reach) beside[regions.region[wideVertices[idx]]].push_back(v);
-    }
-    for (int r = 0; r < regions.count; ++r) {
-      if (!wide[r] || beside[r].empty()) continue;
-      const double d = deltaE2000(medianColour(lab, own[r]), medianColour(lab, beside[r]));
-      wide[r] = d >= sameColour;
-      if (deltaE) deltaE->push_back({d, wide[r]});
-    }
+  const std::vector<std::vector<int>> beside = besideSets(
+      mesh.V, setOf, regions.count, reach, [&](int v) { return !candidate[v] && phi[v] < 0; });
+  for (int r = 0; r < regions.count; ++r) {
+    if (!wide[r] || beside[r].empty()) continue;
+    const double d = deltaE2000(medianColour(lab, own[r]), medianColour(lab, beside[r]));
+    wide[r] = d >= sameColour;
+    if (deltaE) deltaE->push_back({d, wide[r]});
   }
   std::vector<bool> out(nV, false);
   for (int v = 0; v < nV; ++v) out[v] = candidate[v] && wide[regions.region[v]];

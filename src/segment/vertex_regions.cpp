@@ -1,5 +1,9 @@
 #include "segment/vertex_regions.h"
 
+#include <cstdint>
+
+#include "core/row_tree.h"
+
 namespace s2p {
 
 VertexRegions vertexRegions(const MeshTopology& topology, const std::function<bool(int)>& open) {
@@ -29,6 +33,28 @@ VertexRegions vertexRegions(const MeshTopology& topology, const std::function<bo
     ++out.count;
   }
   return out;
+}
+
+std::vector<std::vector<int>> besideSets(const Eigen::MatrixX3d& V, const std::vector<int>& setOf,
+                                         int count, double band,
+                                         const std::function<bool(int)>& take) {
+  std::vector<std::vector<int>> beside(static_cast<size_t>(count));
+  std::vector<int> members;
+  for (int v = 0; v < static_cast<int>(setOf.size()); ++v)
+    if (setOf[v] >= 0) members.push_back(v);
+  if (members.empty()) return beside;
+  const RowCloud cloud{&V, &members};
+  RowTree tree(3, cloud);
+  tree.buildIndex();
+  for (int v = 0; v < static_cast<int>(setOf.size()); ++v) {
+    if (setOf[v] >= 0 || !take(v)) continue;
+    std::uint32_t idx = 0;
+    double d2 = 0;
+    const Eigen::Vector3d p = V.row(v).transpose();
+    tree.knnSearch(p.data(), 1, &idx, &d2);
+    if (d2 <= band * band) beside[setOf[members[idx]]].push_back(v);
+  }
+  return beside;
 }
 
 }  // namespace s2p
