@@ -29,6 +29,7 @@ struct SegmentCommand {
   std::string segmenter = "curve";
   bool faithful = false;
   bool noGapFilling = false;
+  bool colourOnly = false;
   int coarseVertices = SegmentationOptions{}.coarseVertices;
   LoadOptions load;
 };
@@ -45,7 +46,8 @@ json truthBody(const fs::path& truth) {
 SegmentOutput runSegmenter(const std::string& segmenter, const Scan& scan,
                            const PosedFeatures& body, const TriMesh& underBody,
                            const SegmentationOptions& options, Progress& progress) {
-  if (segmenter == "mrf") return segmentWithMrf(scan, body.body, body.features, options, progress);
+  if (segmenter == "mrf")
+    return segmentWithMrf(scan, body.body, underBody, body.features, options, progress);
   return {
       segmentScan(scan.mesh, scan.colour, body.body, underBody, body.features, options, &progress),
       "curve"};
@@ -56,12 +58,21 @@ void checkSegmenter(const std::string& segmenter) {
     throw CLI::ValidationError("--segmenter", "use curve (the paper's method) or mrf");
 }
 
-SegmentationOptions segmentationOptions(bool faithful, bool noGapFilling, int coarseVertices) {
+SegmentationOptions segmentationOptions(bool faithful, bool noGapFilling, int coarseVertices,
+                                        bool colourOnly) {
   SegmentationOptions options;
   options.boundary.faithful = faithful;
   options.gapFilling = !noGapFilling;
+  options.geometry.enabled = !colourOnly;
   options.coarseVertices = coarseVertices;
   return options;
+}
+
+// --colour-only: the paper's displacement, without issue 18's geometric cues.
+void addColourOnlyFlag(CLI::App* cmd, bool& colourOnly) {
+  cmd->add_flag("--colour-only", colourOnly,
+                "Colour alone decides, as in the paper: no geometric cues (the scan's offset from "
+                "the body under the clothes and its steps at hems), for either segmenter");
 }
 
 // --coarse-vertices: 0, or enough vertices for a person (core/coarse_mesh.h).
@@ -85,7 +96,8 @@ int runSegment(const SegmentCommand& cmd, Progress& progress) {
   const PosedFeatures body = poseBodyForScan(bodyJson, loaded.scan, progress, bodyDir);
   const SegmentOutput result = runSegmenter(
       cmd.segmenter, loaded.scan, body, underBodyForScan(bodyJson, body, loaded.scan, bodyDir),
-      segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices), progress);
+      segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices, cmd.colourOnly),
+      progress);
   progress.begin("write outputs");
   writeSegmentation(cmd.out, loaded.scan, result);
   progress.end();
@@ -108,6 +120,7 @@ struct SuiteCommand {
   std::string reference;  // an earlier segment-suite output to compare boundaries with
   bool faithful = false;
   bool noGapFilling = false;
+  bool colourOnly = false;
   int coarseVertices = SegmentationOptions{}.coarseVertices;
 };
 
@@ -133,7 +146,7 @@ int runSegmentSuite(const SuiteCommand& cmd, Progress& progress) {
   checkSegmenter(cmd.segmenter);
   const std::vector<fs::path> truths = suiteTruths(cmd.suiteDir, cmd.only);
   const SegmentationOptions options =
-      segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices);
+      segmentationOptions(cmd.faithful, cmd.noGapFilling, cmd.coarseVertices, cmd.colourOnly);
   json rows = json::array();
   std::string table =
       "| preset | layout | occlusion | garment IoU | boundary mean mm | worst p95 mm | worst "
@@ -218,6 +231,7 @@ void addSegmentCommand(CLI::App& app, Commands& out) {
                 "regularised isoline, reaches the same boundaries on the benchmark suite)");
   cmd->add_flag("--no-gap-filling", o->noGapFilling,
                 "Skip the second pass for gap-filling triangles (§5.2)");
+  addColourOnlyFlag(cmd, o->colourOnly);
   addCoarseOption(cmd, o->coarseVertices);
   addLoadOptions(cmd, o->load);
   out.push_back({cmd, [o](Progress& progress) { return runSegment(*o, progress); }});
@@ -236,6 +250,7 @@ void addSegmentCommand(CLI::App& app, Commands& out) {
                     "An earlier segment-suite output: adds the distance between its boundaries "
                     "and this run's (e.g. faithful path against fast)");
   suite->add_flag("--no-gap-filling", so->noGapFilling, "Skip the gap-filling pass (§5.2)");
+  addColourOnlyFlag(suite, so->colourOnly);
   addCoarseOption(suite, so->coarseVertices);
   out.push_back({suite, [so](Progress& progress) { return runSegmentSuite(*so, progress); }});
 }

@@ -337,9 +337,12 @@ std::string garmentFileList(const Segmentation& s) {
   return out;
 }
 
-SegmentOutput segmentWithMrf(const Scan& scan, const TriMesh& body, const FeatureSet& features,
-                             const SegmentationOptions& options, Progress& progress) {
-  return {segmentScanMrf(scan.mesh, scan.colour, body, features, options, {}, &progress), "mrf"};
+SegmentOutput segmentWithMrf(const Scan& scan, const TriMesh& body, const TriMesh& underBody,
+                             const FeatureSet& features, const SegmentationOptions& options,
+                             Progress& progress) {
+  return {segmentScanMrf(scan.mesh, scan.colour, body, underBody, features, options, {},
+                         &progress),
+          "mrf"};
 }
 
 }  // namespace s2p::app

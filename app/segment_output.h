@@ -33,9 +33,11 @@ struct SegmentOutput {
   std::string segmenter;  // "curve" or "mrf"
 };
 
-// The paper's Fig. 14 baseline: per-vertex graph-cut labelling with the same colour model.
-SegmentOutput segmentWithMrf(const Scan& scan, const TriMesh& body, const FeatureSet& features,
-                             const SegmentationOptions& options, Progress& progress);
+// The paper's Fig. 14 baseline: per-vertex graph-cut labelling with the same colour model and
+// the geometric cues from `underBody`, the body under the clothes (underBodyForScan).
+SegmentOutput segmentWithMrf(const Scan& scan, const TriMesh& body, const TriMesh& underBody,
+                             const FeatureSet& features, const SegmentationOptions& options,
+                             Progress& progress);
 
 // boundaries.json: {"boundaries": [truth.json's format, one entry per label pair, plus
 // "name", "iterations", "converged", "seconds", "initial_curves", ...], "layout", ...}. All

@@ -38,6 +38,24 @@ Eigen::VectorXd bodyOffset(const TriMesh& scan, const MeshQuery& underBody,
   return out;
 }
 
+std::vector<double> offsetsAt(const TriMesh& scan, const Eigen::VectorXd& offset,
+                              const std::vector<SurfacePoint>& points) {
+  if (offset.size() != scan.numVertices())
+    throw InputError("geometric cues: " + std::to_string(offset.size()) + " offsets for " +
+                     std::to_string(scan.numVertices()) + " vertices");
+  std::vector<double> out;
+  out.reserve(points.size());
+  for (const SurfacePoint& p : points) {
+    if (p.face < 0 || p.face >= scan.numFaces())
+      throw InputError("geometric cues: a region point lies on face " + std::to_string(p.face) +
+                       ", outside the scan's " + std::to_string(scan.numFaces()));
+    int corner = 0;
+    p.bary.maxCoeff(&corner);
+    out.push_back(offset[scan.F(p.face, corner)]);
+  }
+  return out;
+}
+
 bool offsetSaysClothed(const std::vector<double>& offsets, const GeometricCueOptions& options) {
   checkOptions(options);
   if (offsets.empty()) return false;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/mesh_query.h"
+#include "core/surface_point.h"
 #include "core/tri_mesh.h"
 
 namespace s2p {
@@ -68,6 +69,11 @@ struct GeometricCueOptions {
 // closest face. #V. `bodyNormal`, when given, receives that face's unit normal (#V×3).
 Eigen::VectorXd bodyOffset(const TriMesh& scan, const MeshQuery& underBody,
                            const TriMesh& underBodyMesh, Eigen::MatrixX3d* bodyNormal = nullptr);
+
+// The offset (m) at each of `points` on `scan`: its nearest corner's (as a region point's
+// colour is its nearest vertex's). offset: #V. Throws InputError for a point off the mesh.
+std::vector<double> offsetsAt(const TriMesh& scan, const Eigen::VectorXd& offset,
+                              const std::vector<SurfacePoint>& points);
 
 // A region is clothed when the median of its points' offsets (m) exceeds garmentOffset: bare
 // skin lies on the fitted body, a garment off it by its ease. false for no offsets.

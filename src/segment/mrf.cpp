@@ -12,6 +12,7 @@
 #include "core/laplacian.h"
 #include "core/mesh_topology.h"
 #include "core/row_tree.h"
+#include "segment/body_offset.h"
 
 namespace s2p {
 
@@ -82,6 +83,60 @@ void validate(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
   if (!(o.posteriorFloor >= 0 && o.posteriorFloor < 1))
     throw InputError("MRF segmentation: posteriorFloor must be in [0, 1)");
   if (o.maxSweeps < 0) throw InputError("MRF segmentation: maxSweeps must be ≥ 0");
+  if (!(finite(o.offsetNoise) && o.offsetNoise > 0) ||
+      !(o.offsetOutliers > 0 && o.offsetOutliers < 1) ||
+      !(finite(o.offsetRange) && o.offsetRange > 0) ||
+      !(finite(o.riserSlope) && o.riserSlope >= 0))
+    throw InputError(
+        "MRF segmentation: offsetNoise and offsetRange must be positive metres, offsetOutliers "
+        "in (0, 1) and riserSlope ≥ 0");
+}
+
+void validateOffset(const TriMesh& mesh, const Eigen::VectorXd& offset,
+                    const std::vector<MrfRegion>& regions) {
+  if (offset.size() == 0) return;
+  if (offset.size() != mesh.numVertices() || !offset.allFinite())
+    throw InputError("MRF segmentation: " + std::to_string(offset.size()) + " offsets for " +
+                     std::to_string(mesh.numVertices()) +
+                     " vertices, or not finite; pass one per vertex, or none for colour alone");
+  const auto skin = std::count_if(regions.begin(), regions.end(),
+                                  [](const MrfRegion& r) { return r.bareSkin; });
+  if (skin == 0 || skin == static_cast<long>(regions.size()))
+    throw InputError("MRF segmentation: the offset cue needs a region of bare skin and one "
+                     "that covers it; mark the skin's region bareSkin");
+}
+
+// The Gaussian part of the offset likelihood of one kind of region: the median and the
+// MAD-estimated spread (floored at `noise`) of the offsets at its points' nearest corners.
+OffsetModel fitOffsetModel(const TriMesh& mesh, const Eigen::VectorXd& offset,
+                           const std::vector<MrfRegion>& regions, bool bareSkin, double noise) {
+  std::vector<double> o;
+  for (const MrfRegion& r : regions)
+    if (r.bareSkin == bareSkin)
+      for (const double x : offsetsAt(mesh, offset, r.points)) o.push_back(x);
+  const auto median = [](std::vector<double> v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  OffsetModel m;
+  m.mean = median(o);
+  for (double& x : o) x = std::abs(x - m.mean);
+  m.sigma = std::max(1.4826 * median(o), noise);
+  return m;
+}
+
+// log p(o) = log((1 − η) N(o; μ, σ²) + η / R), #V.
+Eigen::VectorXd offsetLogLikelihood(const Eigen::VectorXd& offset, const OffsetModel& m,
+                                    const MrfOptions& options) {
+  const double eta = options.offsetOutliers;
+  const double peak = (1 - eta) / (m.sigma * std::sqrt(2 * M_PI));
+  Eigen::VectorXd out(offset.size());
+  for (Eigen::Index v = 0; v < offset.size(); ++v) {
+    const double z = (offset[v] - m.mean) / m.sigma;
+    out[v] = std::log(peak * std::exp(-0.5 * z * z) + eta / options.offsetRange);
+  }
+  return out;
 }
 
 double logSumExp(const Eigen::RowVectorXd& a) {
@@ -150,20 +205,31 @@ Eigen::VectorXi expand(const Energy& en, const Eigen::VectorXi& f, int alpha, Gr
 }  // namespace
 
 MrfResult mrfSegmentation(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
-                          const std::vector<MrfRegion>& regions, const MrfOptions& options) {
+                          const std::vector<MrfRegion>& regions, const MrfOptions& options,
+                          const Eigen::VectorXd& offset) {
   validate(mesh, srgb, regions, options);
+  validateOffset(mesh, offset, regions);
   const int nv = mesh.numVertices();
   const int nl = static_cast<int>(regions.size());
 
   // The boundary optimiser's colour model: the same smoothing, CIELAB and one GMM per region
-  // with the same seeds; the first region stands on the "positive" side only to satisfy it.
-  std::vector<ColourRegion> colourRegions;
-  for (int r = 0; r < nl; ++r) colourRegions.push_back({regions[r].points, r == 0});
-  ColourDisplacement colour = colourDisplacement(mesh, srgb, colourRegions, options.colour);
+  // with the same seeds.
+  std::vector<std::vector<SurfacePoint>> points;
+  for (const MrfRegion& r : regions) points.push_back(r.points);
+  RegionColours colour = fitRegionColours(mesh, srgb, points, options.colour);
 
-  // Data term: −log of the robust posterior with equal label priors (as posteriorDisplacement).
+  // Data term: −log of the robust posterior with equal label priors (as posteriorDisplacement),
+  // of the colour and, when given, the offset (independent given the label).
   Eigen::MatrixXd logp(nv, nl);
   for (int l = 0; l < nl; ++l) logp.col(l) = colour.models[l].logDensity(colour.lab);
+  MrfResult result;
+  if (offset.size() > 0) {
+    result.skinOffset = fitOffsetModel(mesh, offset, regions, true, options.offsetNoise);
+    result.clothedOffset = fitOffsetModel(mesh, offset, regions, false, options.offsetNoise);
+    const Eigen::VectorXd skin = offsetLogLikelihood(offset, result.skinOffset, options);
+    const Eigen::VectorXd clothed = offsetLogLikelihood(offset, result.clothedOffset, options);
+    for (int l = 0; l < nl; ++l) logp.col(l) += regions[l].bareSkin ? skin : clothed;
+  }
   const double eps = options.posteriorFloor;
   Eigen::MatrixXd cost(nv, nl);
   for (int v = 0; v < nv; ++v) {
@@ -204,12 +270,16 @@ MrfResult mrfSegmentation(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
       const double dE2 = (colour.lab.row(u) - colour.lab.row(v)).squaredNorm();
       c = std::exp(-dE2 / (2 * options.contrast * options.contrast));
     }
+    if (offset.size() > 0 && options.riserSlope > 0) {
+      const double slope =
+          (offset[u] - offset[v]) / std::max((mesh.V.row(u) - mesh.V.row(v)).norm(), 1e-12);
+      c *= std::exp(-slope * slope / (2 * options.riserSlope * options.riserSlope));
+    }
     weight[k] = options.smoothness * (mesh.V.row(u) - mesh.V.row(v)).norm() / options.spacing * c;
   }
 
   const PottsResult potts =
       minimisePotts(unary, edges, weight, options.smoothness > 0 ? options.maxSweeps : 0);
-  MrfResult result;
   result.vertexLabel.resize(nv);
   for (int v = 0; v < nv; ++v) result.vertexLabel[v] = regions[potts.label[v]].label;
   result.models = std::move(colour.models);

@@ -9,6 +9,11 @@
 // constant of the mesh's edge directions): the same λ means the same thing at every
 // resolution, and at spacing s every vertex weighs about 1. Minimised by alpha-expansion
 // (Boykov, Veksler and Zabih 2001), each expansion move an exact min cut (libmaxflow).
+//
+// With the scan's offset from the body under the clothes (issue 18's geometric cues,
+// segment/body_offset.h) the data term is the posterior of colour and offset together, bare skin
+// lying on the body and what covers it off the body by its ease, and an edge across a hem's
+// riser is cheap to cut (c_uv also falls with the offset's slope along the edge).
 #pragma once
 
 #include <Eigen/Core>
@@ -23,6 +28,7 @@ namespace s2p {
 struct MrfRegion {                     // one label
   int label = 0;                       // the caller's label code (e.g. synth Label values)
   std::vector<SurfacePoint> points{};  // projected region points of that label on the mesh
+  bool bareSkin = false;  // lies on the body (the offset's skin model); else covers it
 };
 
 struct MrfOptions {
@@ -52,24 +58,49 @@ struct MrfOptions {
   // specular highlight, a print) costs at most −log(ε/#labels) and can be outvoted by its
   // neighbours. 0 gives the plain −log posterior (clamped at 1e-300).
   double posteriorFloor = 0.05;
+  // The geometric cues, when mrfSegmentation is given the offset o from the body under the
+  // clothes. The likelihood of o is, for bare skin and for what covers it (every other region's
+  // points pooled: between two garments the offset tells nothing, as in the curve method),
+  //   p(o) = (1 − η) N(o; μ, σ²) + η / R,
+  // μ the median and σ the MAD-estimated spread of the offsets at the regions' points. The
+  // outlier share η bounds the log-likelihood ratio the offset adds at
+  // log(1 + (1 − η) R / (η σ √(2π))) ≈ 5 nats at σ = 1 mm, while colours ΔE00 ≥ 20 apart differ
+  // by tens of nats: colour decides where it tells the labels apart (a hand the fit missed by a
+  // centimetre stays skin), the offset where it cannot (a skin-coloured sleeve off the arm by its
+  // ease; colours ΔE 8 apart differ by ~3 nats).
+  double offsetNoise = 0.001;   // m: σ's floor, the fit's error on bare skin (1–1.5 mm here)
+  double offsetOutliers = 0.1;  // η
+  double offsetRange = 0.05;    // m: R, the span of offsets on a scan (−1 … 4 cm)
+  // The steps of the offset as contrast: c_uv is also multiplied by exp(−(Δo/|uv|)²/(2τ²)),
+  // Δo the difference of the edge's ends' offsets. A hem's riser has slope ~1 (factor < 10⁻³ at
+  // τ = 0.25), the ease along a garment ≲ 0.1 (factor ≥ 0.92). 0 turns it off.
+  double riserSlope = 0.25;
   int maxSweeps = 5;            // alpha-expansion sweeps over all labels (0: data + prior argmin)
   ColourModelOptions colour{};  // smoothing + GMM, the same as the boundary optimiser's
 };
 
+struct OffsetModel {  // the Gaussian part of an offset likelihood, metres
+  double mean = 0, sigma = 0;
+};
+
 struct MrfResult {
   Eigen::VectorXi vertexLabel;          // #V, caller's label codes
+  OffsetModel skinOffset, clothedOffset;  // fitted when the offset was given
   std::vector<GaussianMixture> models;  // one per region, fitted on its points' colours
   double energy = 0;                    // E(f) of vertexLabel
   int sweeps = 0;                       // alpha-expansion sweeps run
   std::vector<double> sweepEnergies;    // E before the first sweep, then after each sweep
 };
 
-// srgb: #V×3 in [0, 1]. Throws InputError for an invalid mesh, colours of the wrong size or
-// non-finite, fewer than two regions, two regions with the same label, a region without
-// points, points off the mesh (face out of range or non-finite barycentric weights) and
-// options out of range; SolverError when a min cut cannot allocate its graph.
+// srgb: #V×3 in [0, 1]. offset: #V (m, smoothed over the scanner's noise), or empty for colour
+// alone; with it, at least one region must be bare skin and one not. Throws InputError for an
+// invalid mesh, colours or offsets of the wrong size or non-finite, fewer than two regions, two
+// regions with the same label, a region without points, points off the mesh (face out of range
+// or non-finite barycentric weights), an offset without both kinds of region, and options out
+// of range; SolverError when a min cut cannot allocate its graph.
 MrfResult mrfSegmentation(const TriMesh& mesh, const Eigen::MatrixX3d& srgb,
-                          const std::vector<MrfRegion>& regions, const MrfOptions& options = {});
+                          const std::vector<MrfRegion>& regions, const MrfOptions& options = {},
+                          const Eigen::VectorXd& offset = {});
 
 // === The optimiser on its own
 

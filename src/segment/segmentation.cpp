@@ -632,12 +632,7 @@ class Segmenter {
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
     if (hasGeometry())
       for (int r = 0; r < 4; ++r) {
-        std::vector<double> o;
-        for (const SurfacePoint& p : regions[r]) {
-          int corner = 0;
-          p.bary.maxCoeff(&corner);
-          o.push_back(root_.offset[scan_.F(p.face, corner)]);
-        }
+        const std::vector<double> o = offsetsAt(scan_, root_.offset, regions[r]);
         regionOffset_[r] = median(o);
         regionClothed_[r] = offsetSaysClothed(o, options_.geometry);
       }
@@ -1732,10 +1727,12 @@ Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, co
   return segmentScanWith(scan, colour, body, &underBody, features, options, progress);
 }
 
-Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
-                            const TriMesh& body, const FeatureSet& features,
-                            const SegmentationOptions& options, const MrfOptions& mrf,
-                            Progress* progress) {
+namespace {
+
+Segmentation segmentScanMrfWith(const TriMesh& scan, const Eigen::MatrixX3d& colour,
+                                const TriMesh& body, const TriMesh* underBody,
+                                const FeatureSet& features, const SegmentationOptions& options,
+                                const MrfOptions& mrf, Progress* progress) {
   Progress& p = progress ? *progress : Progress::silent();
   const auto t0 = Clock::now();
   validateMesh(scan, "scan");
@@ -1749,21 +1746,58 @@ Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
   const std::vector<std::vector<SurfacePoint>> regions =
       projectRegionPoints(projector, features, out.regionPoints, out.droppedRegionPoints);
   p.end();
-  p.begin("MRF labelling (graph cut)");
-  std::vector<MrfRegion> mrfRegions = {{static_cast<int>(Label::Skin), regions[0]},
+  std::vector<MrfRegion> mrfRegions = {{static_cast<int>(Label::Skin), regions[0], true},
                                        {static_cast<int>(Label::Upper), regions[1]},
                                        {static_cast<int>(Label::Lower), regions[2]}};
   if (regions[3].size() >= 4) mrfRegions.push_back({static_cast<int>(Label::Shoes), regions[3]});
   MrfOptions mo = mrf;
   mo.colour = options.colour;
-  const MrfResult r = mrfSegmentation(scan, colour, mrfRegions, mo);
+  Eigen::VectorXd offset;
+  if (underBody && options.geometry.enabled) {
+    // The geometric cues: the offset from the body under the clothes, smoothed over the
+    // scanner's noise as the curve method's is (segment/body_offset.h).
+    validateMesh(*underBody, "body under the clothes");
+    p.begin("offset from the body under the clothes");
+    const MeshQuery query(*underBody);
+    const Eigen::MatrixXd raw = bodyOffset(scan, query, *underBody);
+    offset = smoothOnSurface(scan, raw, options.geometry.noiseLength).col(0);
+    out.geometricCues = true;
+    p.end();
+  }
+  p.begin("MRF labelling (graph cut)");
+  const MrfResult r = mrfSegmentation(scan, colour, mrfRegions, mo, offset);
   p.end();
   out.vertexLabel = r.vertexLabel;
   out.faceLabel = faceLabelsFromVertices(scan, r.vertexLabel);
+  if (out.geometricCues) {
+    out.skinOffset = r.skinOffset.mean;
+    out.upperOffset = out.lowerOffset = r.clothedOffset.mean;
+    out.notes.push_back(fmt::format(
+        "MRF geometric cues: offset from the body {:.1f} ± {:.1f} mm on the skin's region points, "
+        "{:.1f} ± {:.1f} mm on the others'",
+        1000 * r.skinOffset.mean, 1000 * r.skinOffset.sigma, 1000 * r.clothedOffset.mean,
+        1000 * r.clothedOffset.sigma));
+  }
   out.notes.push_back(
       fmt::format("MRF baseline: {} alpha-expansion sweeps, energy {:.1f}", r.sweeps, r.energy));
   out.seconds = secondsSince(t0);
   return out;
+}
+
+}  // namespace
+
+Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
+                            const TriMesh& body, const FeatureSet& features,
+                            const SegmentationOptions& options, const MrfOptions& mrf,
+                            Progress* progress) {
+  return segmentScanMrfWith(scan, colour, body, nullptr, features, options, mrf, progress);
+}
+
+Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
+                            const TriMesh& body, const TriMesh& underBody,
+                            const FeatureSet& features, const SegmentationOptions& options,
+                            const MrfOptions& mrf, Progress* progress) {
+  return segmentScanMrfWith(scan, colour, body, &underBody, features, options, mrf, progress);
 }
 
 }  // namespace s2p

@@ -210,11 +210,21 @@ Segmentation segmentScan(const TriMesh& scan, const Eigen::MatrixX3d& colour, co
 
 // The paper's Fig. 14 baseline: every scan vertex labelled by a multi-label graph cut
 // (segment/mrf.h) with the same colour model as data term and the projected labelled regions as
-// prior. Only vertexLabel, faceLabel, the region counts and a note are filled: an MRF labelling
+// prior. Only vertexLabel, faceLabel, the region counts and notes are filled: an MRF labelling
 // has no boundary curves and no exact cut. Throws as segmentScan.
 Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
                             const TriMesh& body, const FeatureSet& features,
                             const SegmentationOptions& options = {}, const MrfOptions& mrf = {},
                             Progress* progress = nullptr);
+
+// The same with `underBody`, the body fitted under the clothes (as for segmentScan): the
+// geometric cues join the colour in the data term (geometricLabelCost, segment/body_offset.h),
+// weighed as the curve method weighs them, so that the baseline sees what the boundaries see.
+// The layout decisions (a missing garment, one piece, occlusion), hair and held objects stay
+// the curve method's: the baseline labels every vertex skin, upper, lower or shoes.
+Segmentation segmentScanMrf(const TriMesh& scan, const Eigen::MatrixX3d& colour,
+                            const TriMesh& body, const TriMesh& underBody,
+                            const FeatureSet& features, const SegmentationOptions& options = {},
+                            const MrfOptions& mrf = {}, Progress* progress = nullptr);
 
 }  // namespace s2p

@@ -95,6 +95,29 @@ TEST(SegmentCli, TheTrueBodyGivesTheGeometricCuesAsRunHasThem_Slow) {
   EXPECT_GE(j["mean_garment_iou"].get<double>(), 0.97);
 }
 
+// The MRF baseline with the same cues: a top of the wearer's own skin tone (skin_tone_top) is
+// told from the bare arms and neck by its offset from the body under the clothes; by colour
+// alone the graph cut gives much of it to the skin.
+TEST(SegmentCli, TheMrfBaselineTakesTheOffsetIntoItsDataTerm_Slow) {
+  test::TempDir dir;
+  const CliRun s = test::runCli("-q synth --preset skin_tone_top --seed 3 --vertices 9000 -o " +
+                                q(dir / "synth"));
+  ASSERT_EQ(s.code, 0) << s.out;
+  const auto upperIou = [&](const std::string& flags, const std::string& name) {
+    const CliRun r = test::runCli("-q segment " + q(dir / "synth" / "scan.ply") + " --truth " +
+                                  q(dir / "synth" / "truth.json") + " --segmenter mrf " + flags +
+                                  " -o " + q(dir / name));
+    EXPECT_EQ(r.code, 0) << r.out;
+    const CliRun e = test::runCli("-q eval --json --truth " + q(dir / "synth" / "truth.json") +
+                                      " --pred " + q(dir / name),
+                                  false);
+    EXPECT_EQ(e.code, 0) << e.out;
+    return nlohmann::json::parse(e.out)["labels"]["upper"]["iou"].get<double>();
+  };
+  EXPECT_GE(upperIou("", "cues"), 0.97);             // 0.994 when written
+  EXPECT_LT(upperIou("--colour-only", "colour"), 0.9);  // 0.852
+}
+
 TEST(SegmentCli, RefusesBadInputWithoutWritingAnything) {
   const fs::path synth = synthScan();
   test::TempDir dir;

@@ -321,6 +321,111 @@ TEST(Mrf, ResolutionDoesNotChangeWhichStripesSurvive) {
 
 // === Face labels
 
+// === The geometric cues (issue 18)
+
+// The issue's known answer for the baseline: a skin-coloured sleeve with 1 cm of ease over a
+// bare forearm of the same colour. Colour alone splits where the prior does (y ≈ −0.025); the
+// offset from the body puts the split at the sleeve's hem (y = −0.2).
+TEST(Mrf, SkinColouredSleeveIsFoundByItsOffset) {
+  const TriMesh cyl = centredCylinder();
+  const Eigen::RowVector3d skin(0.85, 0.65, 0.55);
+  const Eigen::MatrixX3d rgb = paint(Eigen::VectorXi::Zero(cyl.numVertices()), {skin}, 5);
+  std::mt19937 rng(6);
+  std::normal_distribution<double> noise(0, 0.0005);  // m, the scanner's and the fit's
+  Eigen::VectorXd offset(cyl.numVertices());
+  for (int v = 0; v < cyl.numVertices(); ++v)
+    offset[v] = (cyl.V(v, 1) > -0.2 ? 0.01 : 0.0) + noise(rng);
+  const std::vector<MrfRegion> regions = {
+      {.label = 0, .points = pointsBetween(cyl, -0.5, -0.35), .bareSkin = true},
+      {.label = 1, .points = pointsBetween(cyl, 0.3, 0.5)}};
+  const MrfResult r = mrfSegmentation(cyl, rgb, regions, {}, offset);
+  const MrfResult blind = mrfSegmentation(cyl, rgb, regions);
+  int wrong = 0, blindWrong = 0;
+  for (int v = 0; v < cyl.numVertices(); ++v) {
+    const double y = cyl.V(v, 1);
+    if (std::abs(y + 0.2) < kRing) continue;
+    wrong += r.vertexLabel[v] != (y > -0.2 ? 1 : 0);
+    blindWrong += blind.vertexLabel[v] != (y > -0.2 ? 1 : 0);
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(blindWrong, 10 * 64);  // the 17 cm between the hem and the prior's split
+  EXPECT_NEAR(r.skinOffset.mean, 0, 0.0005);
+  EXPECT_NEAR(r.clothedOffset.mean, 0.01, 0.0005);
+  EXPECT_DOUBLE_EQ(r.skinOffset.sigma, MrfOptions{}.offsetNoise);  // the spread's floor
+}
+
+// Where colour tells skin from the garment, a fit error does not override it: a hand the fit
+// missed by a centimetre stays skin.
+TEST(Mrf, ColourStillDecidesWhereItCanTell) {
+  const TriMesh cyl = centredCylinder();
+  Eigen::VectorXi band(cyl.numVertices());
+  for (int v = 0; v < cyl.numVertices(); ++v) band[v] = cyl.V(v, 1) > 0 ? 1 : 0;
+  const Eigen::MatrixX3d rgb = paint(band, {Eigen::RowVector3d(0.85, 0.65, 0.55), kBlue}, 7);
+  Eigen::VectorXd offset(cyl.numVertices());
+  for (int v = 0; v < cyl.numVertices(); ++v) {
+    const double y = cyl.V(v, 1);
+    offset[v] = y > 0 ? 0.01 : (y < -0.3 ? 0.01 : 0.0);  // the skin's end off the body too
+  }
+  const std::vector<MrfRegion> regions = {
+      {.label = 0, .points = pointsBetween(cyl, -0.3, -0.1), .bareSkin = true},
+      {.label = 1, .points = pointsBetween(cyl, 0.1, 0.5)}};
+  const MrfResult r = mrfSegmentation(cyl, rgb, regions, {}, offset);
+  for (int v = 0; v < cyl.numVertices(); ++v)
+    if (std::abs(cyl.V(v, 1)) > 1.5 * kRing) {
+      EXPECT_EQ(r.vertexLabel[v], band[v]) << "y " << cyl.V(v, 1);
+    }
+}
+
+// Two garments of one colour over a bare ankle of another, a 1 cm hem step between them 3.7 cm
+// below where the prior splits them (y = 0): colour alone splits at the prior; the riser's cheap
+// edges move the split onto the step.
+TEST(Mrf, EqualColoursSplitAtTheHemRiser) {
+  const TriMesh cyl = centredCylinder();
+  constexpr double kHem = -0.037;  // between two rings
+  Eigen::VectorXi band(cyl.numVertices());
+  Eigen::VectorXd offset(cyl.numVertices());
+  for (int v = 0; v < cyl.numVertices(); ++v) {
+    const double y = cyl.V(v, 1);
+    band[v] = y < -0.42 ? 1 : 0;
+    offset[v] = y < -0.42 ? 0.0 : (y > kHem ? 0.02 : 0.01);
+  }
+  const Eigen::MatrixX3d rgb = paint(band, {kGreen, Eigen::RowVector3d(0.85, 0.65, 0.55)}, 8);
+  const std::vector<MrfRegion> regions = {
+      {.label = 0, .points = pointsBetween(cyl, -0.5, -0.45), .bareSkin = true},
+      {.label = 1, .points = pointsBetween(cyl, 0.3, 0.5)},
+      {.label = 2, .points = pointsBetween(cyl, -0.4, -0.3)}};
+  const MrfResult r = mrfSegmentation(cyl, rgb, regions, {}, offset);
+  const MrfResult blind = mrfSegmentation(cyl, rgb, regions);
+  int wrong = 0, blindWrong = 0;
+  for (int v = 0; v < cyl.numVertices(); ++v) {
+    const double y = cyl.V(v, 1);
+    if (y < -0.4 || y > 0.3) continue;
+    wrong += r.vertexLabel[v] != (y > kHem ? 1 : 2);
+    blindWrong += blind.vertexLabel[v] != (y > kHem ? 1 : 2);
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GE(blindWrong, 3 * 64);  // the three rings between the step and y = 0
+}
+
+TEST(Mrf, BadOffsetsThrowInputError) {
+  const TriMesh cyl = centredCylinder();
+  const Eigen::MatrixX3d rgb = paint(Eigen::VectorXi::Zero(cyl.numVertices()), {kRed}, 1);
+  const std::vector<MrfRegion> regions = {
+      {.label = 0, .points = pointsBetween(cyl, -0.5, -0.3), .bareSkin = true},
+      {.label = 1, .points = pointsBetween(cyl, 0.3, 0.5)}};
+  const Eigen::VectorXd offset = Eigen::VectorXd::Zero(cyl.numVertices());
+  EXPECT_NO_THROW(mrfSegmentation(cyl, rgb, regions, {}, offset));
+  EXPECT_THROW(mrfSegmentation(cyl, rgb, regions, {}, offset.head(10)), InputError);
+  Eigen::VectorXd nan = offset;
+  nan[3] = std::nan("");
+  EXPECT_THROW(mrfSegmentation(cyl, rgb, regions, {}, nan), InputError);
+  std::vector<MrfRegion> noSkin = regions;
+  noSkin[0].bareSkin = false;
+  EXPECT_THROW(mrfSegmentation(cyl, rgb, noSkin, {}, offset), InputError);
+  EXPECT_THROW(mrfSegmentation(cyl, rgb, regions, {.offsetOutliers = 0}, offset), InputError);
+  EXPECT_THROW(mrfSegmentation(cyl, rgb, regions, {.riserSlope = -1}, offset), InputError);
+}
+
 TEST(Mrf, FaceLabelsTakeTheCornerMajority) {
   TriMesh m;
   m.V.setZero(6, 3);
