@@ -166,6 +166,7 @@ json segmentationToJson(const SegmentOutput& out, const Eigen::Affine3d& toInput
                     {"gap_pass", b.gapPass},
                     {"gap_applied", b.gapApplied},
                     {"gap_shift_m", b.gapShift},
+                    {"plane_pass", b.planePass},
                     {"gap_sets", gapSets(b)},
                     {"islands_removed", b.islandsRemoved},
                     {"geometry_weight", b.geometryWeight},

@@ -226,7 +226,7 @@ BoundaryResult BoundaryOptimizer::run(const std::vector<std::vector<SurfacePoint
   const double setup = impl_->timings.setup;
   impl_->timings = BoundaryTimings{.setup = setup};
   const Eigen::VectorXd phi0 = initialImplicit(splines, signs);
-  BoundaryResult r = iterateFrom(phi0, signs, phiD);
+  BoundaryResult r = iterateFrom(phi0, signs, phiD, impl_->options.tolerance);
   impl_->timings.total = secondsSince(t0) + setup;
   r.timings = impl_->timings;
   return r;
@@ -234,8 +234,10 @@ BoundaryResult BoundaryOptimizer::run(const std::vector<std::vector<SurfacePoint
 
 BoundaryResult BoundaryOptimizer::iterate(const Eigen::VectorXd& phi0,
                                           const std::vector<ValueConstraint>& signs,
-                                          const Eigen::VectorXd& phiD) {
+                                          const Eigen::VectorXd& phiD, double tolerance) {
   checkInputs(signs, phiD);
+  if (!(tolerance >= 0) || !std::isfinite(tolerance))
+    throw InputError("boundary optimisation: the tolerance must be ≥ 0 m² (0: the options')");
   if (phi0.size() != impl_->mesh.numVertices() || !phi0.allFinite())
     throw InputError("boundary optimisation: the start field has " + std::to_string(phi0.size()) +
                      " values for " + std::to_string(impl_->mesh.numVertices()) +
@@ -243,7 +245,8 @@ BoundaryResult BoundaryOptimizer::iterate(const Eigen::VectorXd& phi0,
   const auto t0 = std::chrono::steady_clock::now();
   const double setup = impl_->timings.setup;
   impl_->timings = BoundaryTimings{.setup = setup};
-  BoundaryResult r = iterateFrom(phi0, signs, phiD);
+  BoundaryResult r =
+      iterateFrom(phi0, signs, phiD, tolerance > 0 ? tolerance : impl_->options.tolerance);
   impl_->timings.total = secondsSince(t0);
   r.timings = impl_->timings;
   return r;
@@ -266,7 +269,7 @@ void BoundaryOptimizer::checkInputs(const std::vector<ValueConstraint>& signs,
 
 BoundaryResult BoundaryOptimizer::iterateFrom(const Eigen::VectorXd& phi0,
                                               const std::vector<ValueConstraint>& signs,
-                                              const Eigen::VectorXd& phiD) {
+                                              const Eigen::VectorXd& phiD, double tolerance) {
   Impl& d = *impl_;
   BoundaryResult r;
   r.phi0 = phi0;
@@ -289,7 +292,7 @@ BoundaryResult BoundaryOptimizer::iterateFrom(const Eigen::VectorXd& phi0,
     const double change = d.area.dot((next - phi).cwiseAbs2()) / d.totalArea;
     r.changes.push_back(change);
     phi = std::move(next);
-    if (change < d.options.tolerance) {
+    if (change < tolerance) {
       r.converged = true;
       break;
     }

@@ -102,15 +102,17 @@ class BoundaryOptimizer {
   BoundaryResult run(const std::vector<std::vector<SurfacePoint>>& splines,
                      const std::vector<ValueConstraint>& signs, const Eigen::VectorXd& phiD);
   // Algorithm 1 from lines 3–8 with a given φ₀ (a signed distance, e.g. a previous run's φ):
-  // the second pass of §5.2 (Eq. 6). Throws as run, and for a φ₀ of the wrong size.
+  // the second pass of §5.2 (Eq. 6). tolerance: m², 0 for the options'; a pass where only part
+  // of the mesh can move measures its change over that part (tolerance × its area share). Throws
+  // as run, and for a φ₀ of the wrong size or a negative tolerance.
   BoundaryResult iterate(const Eigen::VectorXd& phi0, const std::vector<ValueConstraint>& signs,
-                         const Eigen::VectorXd& phiD);
+                         const Eigen::VectorXd& phiD, double tolerance = 0);
 
  private:
   void checkInputs(const std::vector<ValueConstraint>& signs, const Eigen::VectorXd& phiD) const;
   BoundaryResult iterateFrom(const Eigen::VectorXd& phi0,
                              const std::vector<ValueConstraint>& signs,
-                             const Eigen::VectorXd& phiD);
+                             const Eigen::VectorXd& phiD, double tolerance);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

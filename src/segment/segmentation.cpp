@@ -23,6 +23,7 @@
 #include "core/row_tree.h"
 #include "core/stage_error.h"
 #include "segment/garment_completion.h"
+#include "segment/hem_plane.h"
 #include "segment/mesh_cut.h"
 #include "segment/surface_spline.h"
 #include "segment/vertex_regions.h"
@@ -1288,6 +1289,8 @@ class Segmenter {
       run.result = optimizer.run(f.splines, f.signs, phiD);
     }
     rep.iterations = run.result.iterations;
+    if (!neutral.empty() && !job.keepInitial && !run.result.vanished)
+      neutralPlanePass(stage, job, f.signs, neutral, phiD, optimizer, run);
     if (job.gapFilling && !job.keepInitial && !run.result.vanished) {
       // §5.2: a second pass with the normal displacement (Eq. 6), kept when it moves the
       // boundary (a gap was bridged).
@@ -1328,6 +1331,44 @@ class Segmenter {
     rep.finalCurves = curvePolylines(run.result.boundary, rep.finalClosed);
     rep.otherLabels.assign(rep.finalCurves.size(), job.other);
     return run;
+  }
+
+  // A colour both garments hold pushes neither way, and the front can stall in a band of it
+  // (segment/hem_plane.h): a second pass lets those vertices push toward the plane of the first
+  // pass's curve, the positive garment's side above it, as far as the offset's steps leave them
+  // free (a riser that says where the hem is still decides); every other vertex keeps its push.
+  // Only the neutral part moves, so its change is measured over that part's area (else a bay
+  // filling at α per iteration reads as converged). Kept when it does not vanish.
+  void neutralPlanePass(const Stage& stage, const BoundaryJob& job,
+                        const std::vector<ValueConstraint>& signs,
+                        const std::vector<bool>& neutral, const Eigen::VectorXd& phiD,
+                        BoundaryOptimizer& optimizer, BoundaryRun& run) const {
+    const std::vector<Vec3>& region = regionPositions_[job.regions[0]];
+    const std::optional<FittedPlane> plane = trimmedCurvePlane(run.result.boundary);
+    if (!plane || region.empty()) return;
+    Vec3 positive = Vec3::Zero();
+    for (const Vec3& p : region) positive += p;
+    const Eigen::VectorXd toPlane =
+        planeDisplacement(stage.mesh, *plane, positive / static_cast<double>(region.size()));
+    const Eigen::VectorXd area = vertexAreas(stage.mesh);
+    Eigen::VectorXd phiPlane = phiD;
+    double neutralArea = 0;
+    for (size_t v = 0; v < neutral.size(); ++v) {
+      if (!neutral[v]) continue;
+      const auto i = static_cast<Eigen::Index>(v);
+      phiPlane[i] += (1 - std::abs(phiD[i])) * toPlane[i];
+      neutralArea += area[i];
+    }
+    // Floored at 2 % of the scan: a front jittering by a cell in a few vertices would not stop.
+    const double share = std::max(neutralArea / area.sum(), 0.02);
+    BoundaryResult second =
+        optimizer.iterate(run.result.phi, signs, phiPlane, share * options_.boundary.tolerance);
+    if (second.vanished) return;
+    run.report.iterations += second.iterations;
+    second.phi0 = run.result.phi0;
+    second.initial = run.result.initial;
+    run.result = std::move(second);
+    run.report.planePass = true;
   }
 
   // A boundary beside cut-away parts of several labels (B(L|S): skin or shoes; B(U|S): skin or

@@ -133,6 +133,9 @@ struct BoundaryReport {
   bool gapPass = false;     // the Eq. 6 pass was run
   bool gapApplied = false;  // ... and its boundary was kept
   double gapShift = 0;      // 95th percentile distance (m) between the two passes' boundaries
+  // A second pass pushed the vertices of a colour both sides hold toward the plane of the first
+  // pass's curve (B(U|L) of garments sharing a colour).
+  bool planePass = false;
   // Per connected set of gap candidates reaching past gapReach: its ΔE00 from the garment beside
   // it, and whether it was taken as a gap (else cloth in the garment's colour).
   std::vector<std::pair<double, bool>> gapSetDeltaE;
