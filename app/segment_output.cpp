@@ -316,8 +316,11 @@ SegmentScore scoreSegmentation(const fs::path& truthPath, const fs::path& outDir
 }
 
 void printSegmentation(const Segmentation& s) {
-  fmt::print("layout {}, occlusion {}, shoes {}; {:.1f} s\n", toString(s.layout),
-             toString(s.occlusion), s.shoes ? "yes" : "no", s.seconds);
+  if (s.decided)
+    fmt::print("layout {}, occlusion {}, shoes {}; {:.1f} s\n", toString(s.layout),
+               toString(s.occlusion), s.shoes ? "yes" : "no", s.seconds);
+  else
+    fmt::print("labels per vertex (no layout, occlusion or shoe decision); {:.1f} s\n", s.seconds);
   for (const BoundaryReport& b : s.boundaries)
     fmt::print("  {:4} {:3} iterations{}, {} curve(s), {:.2f} s{}, optimised on {} vertices\n",
                b.name, b.iterations, b.converged ? "" : " (not converged)", b.finalCurves.size(),

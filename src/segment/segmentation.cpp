@@ -1812,6 +1812,7 @@ Segmentation segmentScanMrfWith(const TriMesh& scan, const Eigen::MatrixX3d& col
   validateMesh(body, "body");
   checkColour(scan, colour);
   Segmentation out;
+  out.decided = false;
   p.begin("project features");
   ProjectionOptions popt = options.projection;
   popt.bodyLength = bodyHeight(body);

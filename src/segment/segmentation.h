@@ -166,6 +166,9 @@ struct Segmentation {
   Eigen::VectorXi faceLabel;    // #F of the scan: the label holding most of the face's area
   std::vector<GarmentPiece> garments;
   std::vector<BoundaryReport> boundaries;
+  // false from the MRF baseline: labels per vertex, no layout, occlusion or shoe decision (the
+  // three fields below keep their defaults).
+  bool decided = true;
   GarmentLayout layout = GarmentLayout::UpperLower;
   Occlusion occlusion = Occlusion::None;
   bool shoes = true;  // the foot region's colour differs from skin
