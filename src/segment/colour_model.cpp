@@ -17,6 +17,18 @@ namespace s2p {
 namespace {
 
 constexpr double kLog2Pi = 1.8378770664093453;
+constexpr double kChi2Three95 = 7.815;  // 95 % quantile of χ² with 3 degrees of freedom
+
+// Mahalanobis² of x from component k of g.
+double mahalanobis2(const GaussianMixture& g, int k, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d d = x - g.means.row(k).transpose();
+  return d.dot(g.covariances[k].ldlt().solve(d));
+}
+
+// x inside the 95 % ellipsoid of component k of g.
+bool insideComponent(const GaussianMixture& g, int k, const Eigen::Vector3d& x) {
+  return mahalanobis2(g, k, x) < kChi2Three95;
+}
 
 double logSumExp(const Eigen::VectorXd& a) {
   const double m = a.maxCoeff();
@@ -180,11 +192,7 @@ Eigen::MatrixXd smoothOnSurface(const TriMesh& mesh, const Eigen::MatrixXd& valu
 
 std::vector<bool> sharedColours(const GaussianMixture& a, const GaussianMixture& b,
                                 const Eigen::MatrixX3d& lab) {
-  constexpr double kChi2Three95 = 7.815;  // 95 % quantile of χ² with 3 degrees of freedom
-  const auto inside = [](const GaussianMixture& g, int k, const Eigen::Vector3d& x) {
-    const Eigen::Vector3d d = x - g.means.row(k).transpose();
-    return d.dot(g.covariances[k].ldlt().solve(d)) < kChi2Three95;
-  };
+  const auto inside = insideComponent;
   // Pairs of one colour: each mean inside the other's ellipsoid (a broad component of blends
   // that merely covers the other garment's colour is no pair).
   std::vector<std::pair<int, int>> pairs;
@@ -208,16 +216,13 @@ std::vector<bool> sharedColours(const GaussianMixture& a, const GaussianMixture&
 GaussianMixture withoutBorrowedComponents(const GaussianMixture& model,
                                           const GaussianMixture& other, double maxShare,
                                           double* droppedWeight) {
-  constexpr double kChi2Three95 = 7.815;  // 95 % quantile of χ² with 3 degrees of freedom
   if (droppedWeight) *droppedWeight = 0;
   // Each component's distance (Mahalanobis², in other's nearest component) to other's colours.
   std::vector<std::pair<double, int>> explained;
   for (int k = 0; k < model.components(); ++k) {
     double best = std::numeric_limits<double>::infinity();
-    for (int j = 0; j < other.components(); ++j) {
-      const Eigen::Vector3d d = (model.means.row(k) - other.means.row(j)).transpose();
-      best = std::min(best, d.dot(other.covariances[j].ldlt().solve(d)));
-    }
+    for (int j = 0; j < other.components(); ++j)
+      best = std::min(best, mahalanobis2(other, j, model.means.row(k).transpose()));
     if (best < kChi2Three95) explained.emplace_back(best, k);
   }
   // The best explained go first, while together they stay a minority: a broad other (a garment
@@ -294,19 +299,55 @@ double SkinModel::skinLikeFraction(const Eigen::MatrixX3d& lab) const {
   return static_cast<double>(n) / static_cast<double>(lab.rows());
 }
 
+Eigen::Vector3d medianColour(const Eigen::MatrixX3d& lab) {
+  if (lab.rows() == 0) throw InputError("median colour: no colours");
+  Eigen::Vector3d out;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> v(lab.col(c).data(), lab.col(c).data() + lab.rows());
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    out[c] = *mid;
+  }
+  return out;
+}
+
 SkinModel fitSkinModel(const Eigen::MatrixX3d& lab, double spreadFactor, double minDeltaE,
                        double maxDeltaE) {
   if (lab.rows() == 0 || !lab.allFinite())
     throw InputError("skin model: " + std::to_string(lab.rows()) +
                      " skin colour samples, or not finite; it needs at least one");
+  // The samples within maxDeltaE of the median colour (all of them if none is).
+  const Eigen::Vector3d centre = medianColour(lab);
+  std::vector<int> kept;
+  for (int i = 0; i < lab.rows(); ++i)
+    if (deltaE2000(lab.row(i).transpose(), centre) <= maxDeltaE) kept.push_back(i);
+  if (kept.empty())
+    for (int i = 0; i < lab.rows(); ++i) kept.push_back(i);
   SkinModel m;
-  m.mean = lab.colwise().mean().transpose();
+  for (const int i : kept) m.mean += lab.row(i).transpose();
+  m.mean /= static_cast<double>(kept.size());
   std::vector<double> d;
-  for (int i = 0; i < lab.rows(); ++i) d.push_back(deltaE2000(lab.row(i).transpose(), m.mean));
+  for (const int i : kept) d.push_back(deltaE2000(lab.row(i).transpose(), m.mean));
   const size_t k = std::min(d.size() - 1, static_cast<size_t>(0.9 * static_cast<double>(d.size())));
-  std::nth_element(d.begin(), d.begin() + k, d.end());
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(k), d.end());
   m.threshold = std::clamp(spreadFactor * d[k], minDeltaE, maxDeltaE);
   return m;
+}
+
+std::vector<bool> skinSamplesOfGarments(const Eigen::MatrixX3d& skin,
+                                        const std::vector<GaussianMixture>& garments,
+                                        double maxDeltaE) {
+  std::vector<bool> out(static_cast<size_t>(skin.rows()), false);
+  if (skin.rows() == 0) return out;
+  const Eigen::Vector3d centre = medianColour(skin);
+  for (int i = 0; i < skin.rows(); ++i) {
+    const Eigen::Vector3d x = skin.row(i).transpose();
+    if (deltaE2000(x, centre) <= maxDeltaE) continue;
+    for (const GaussianMixture& g : garments)
+      for (int k = 0; k < g.components() && !out[static_cast<size_t>(i)]; ++k)
+        out[static_cast<size_t>(i)] = insideComponent(g, k, x);
+  }
+  return out;
 }
 
 Eigen::VectorXd smoothedDisplacement(const TriMesh& mesh,

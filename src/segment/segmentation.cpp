@@ -636,6 +636,8 @@ class Segmenter {
     for (int r = 0; r < 4; ++r)
       for (const SurfacePoint& p : regions[r]) regionPositions_[r].push_back(p.position(scan_));
     for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
+    colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
+    dropSkinPointsOnGarments(regions);
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
     if (hasGeometry())
@@ -647,6 +649,30 @@ class Segmenter {
   }
 
   bool hasGeometry() const { return root_.step.size() > 0; }
+
+  // The skin region's points that landed on a garment (a hand's points on a long sleeve's cuff:
+  // a third of f2's) would teach the skin's model the garment's colour: left out
+  // (skinSamplesOfGarments), unless that leaves fewer than half of them.
+  void dropSkinPointsOnGarments(std::vector<std::vector<SurfacePoint>>& regions) {
+    const std::vector<bool> strays = skinSamplesOfGarments(
+        colours_.colours[kSkin], {colours_.models[kUpper], colours_.models[kLower]},
+        options_.sameColourDeltaE);
+    const auto n = std::count(strays.begin(), strays.end(), true);
+    if (n == 0 || 2 * static_cast<size_t>(n) > strays.size()) return;
+    std::vector<SurfacePoint> kept;
+    std::vector<Vec3> keptPositions;
+    for (size_t i = 0; i < strays.size(); ++i)
+      if (!strays[i]) {
+        kept.push_back(regions[kSkin][i]);
+        keptPositions.push_back(regionPositions_[kSkin][i]);
+      }
+    regions[kSkin] = std::move(kept);
+    regionPositions_[kSkin] = std::move(keptPositions);
+    pieceNotes_.push_back(fmt::format(
+        "{} of the skin region's {} points have a garment's colour (a hand's points on a "
+        "sleeve's cuff): left out of the skin's colour model",
+        n, strays.size()));
+  }
 
   // The step field of the offset (body_offset.h). On a large scan it is smoothed on the
   // decimated copy the boundaries are optimised on and carried back: its two surface smoothings
@@ -924,10 +950,14 @@ class Segmenter {
         best = std::min(best, deltaE2000(lab, g.means.row(k).transpose()));
       return best;
     };
+    // The foot's points that landed on an ankle's skin make a component the skin model holds:
+    // left in, every leg vertex near the feet is as near it as to the skin's own.
+    const GaussianMixture foot = withoutBorrowedComponents(colours_.models[kFoot],
+                                                           colours_.models[kSkin], 0.5);
     for (int v = 0; v < feet.mesh.numVertices(); ++v) {
       const Eigen::Vector3d lab = feet.lab.row(v).transpose();
       if (nearFoot(feet.mesh.V.row(v).transpose()) &&
-          nearest(colours_.models[kFoot], lab) < nearest(colours_.models[kSkin], lab))
+          nearest(foot, lab) < nearest(colours_.models[kSkin], lab))
         out[v] = static_cast<int>(Label::Shoes);
     }
     return out;
