@@ -240,6 +240,7 @@ class GarmentPanelizer {
     if (garment_.faceOrigin.size() != mesh.numFaces())
       throw InputError(fmt::format("pattern: garment '{}' has {} faces but {} scan-face entries",
                                    garment_.name, mesh.numFaces(), garment_.faceOrigin.size()));
+    if (options_.trimInside && !seams) trimInside(gp);
     const MeshTopology topo(mesh.F, mesh.numVertices());
     if (!topo.manifoldness().isManifold())
       throw TopologyError(fmt::format(
@@ -334,6 +335,19 @@ class GarmentPanelizer {
           o.side, 1000 * o.creaseLength, 1000 * o.drop, o.sleeveArea, o.trunkArea,
           1000 * o.topWidth));
     return true;
+  }
+
+  // The garment's inside the scan saw through an opening, dropped (trimInsideSeenThroughOpenings).
+  void trimInside(GarmentPanels& gp) {
+    std::optional<InsideTrim> t = trimInsideSeenThroughOpenings(garment_.mesh, garment_.faceOrigin,
+                                                                in_.body, options_.inside);
+    if (!t) return;
+    gp.notes.push_back(fmt::format(
+        "the scan saw the garment's inside through an opening (such as under a hem): {:.4f} m² "
+        "({} faces) turned to the body along the rim dropped, the rim where they met is the edge",
+        t->removedArea, t->removedFaces));
+    garment_.mesh = std::move(t->mesh);
+    garment_.faceOrigin = std::move(t->faceOrigin);
   }
 
   // The fitted body's armpit heights, left and right (armpitHeight), found once.

@@ -20,6 +20,7 @@
 #include "body/features.h"
 #include "core/tri_mesh.h"
 #include "pattern/contact_opening.h"
+#include "pattern/inside_trim.h"
 #include "pattern/seam_lines.h"
 
 namespace s2p {
@@ -91,6 +92,10 @@ struct PanelOptions {
   // (pattern/contact_opening.h); false: the seams follow the crease, as the scan shows it.
   bool openFusedContacts = true;
   ContactOpeningOptions contacts;
+  // Where the scan saw the garment's inside through an opening (under a skirt's hem), drop it
+  // before the seams are found (pattern/inside_trim.h); false: flatten it with the rest.
+  bool trimInside = true;
+  InsideTrimOptions inside;
 };
 
 struct PanelsResult {
