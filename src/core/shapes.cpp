@@ -1,5 +1,6 @@
 #include "core/shapes.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -94,18 +95,19 @@ TriMesh makeUvSphere(int rings, int segments, double radius) {
   return m;
 }
 
-TriMesh makeCylinder(int rings, int segments, double radius, double height) {
+TriMesh makeRevolution(const std::vector<Eigen::Vector2d>& profile, int segments) {
   TriMesh m;
-  m.V.resize((rings + 1) * segments, 3);
-  for (int r = 0; r <= rings; ++r)
+  const int n = static_cast<int>(profile.size());
+  m.V.resize(n * segments, 3);
+  for (int r = 0; r < n; ++r)
     for (int s = 0; s < segments; ++s) {
       const double phi = 2 * std::numbers::pi * s / segments;
-      m.V.row(r * segments + s) << radius * std::sin(phi), height * r / rings,
-          radius * std::cos(phi);
+      m.V.row(r * segments + s) << profile[r].x() * std::sin(phi), profile[r].y(),
+          profile[r].x() * std::cos(phi);
     }
-  m.F.resize(2 * rings * segments, 3);
+  m.F.resize(2 * std::max(n - 1, 0) * segments, 3);
   int f = 0;
-  for (int r = 0; r < rings; ++r)
+  for (int r = 0; r + 1 < n; ++r)
     for (int s = 0; s < segments; ++s) {
       const int a = r * segments + s, b = r * segments + (s + 1) % segments;
       const int c = a + segments, d = b + segments;
@@ -113,6 +115,12 @@ TriMesh makeCylinder(int rings, int segments, double radius, double height) {
       m.F.row(f++) << a, d, c;
     }
   return m;
+}
+
+TriMesh makeCylinder(int rings, int segments, double radius, double height) {
+  std::vector<Eigen::Vector2d> profile;
+  for (int r = 0; r <= rings; ++r) profile.emplace_back(radius, height * r / rings);
+  return makeRevolution(profile, segments);
 }
 
 Eigen::VectorXi removeUnreferencedVertices(TriMesh& mesh) {

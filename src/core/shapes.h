@@ -1,6 +1,9 @@
 // Meshes built in code: for tests with known answers, benchmarks and the demo.
 #pragma once
 
+#include <Eigen/Core>
+#include <vector>
+
 #include "core/tri_mesh.h"
 
 namespace s2p {
@@ -19,6 +22,11 @@ TriMesh makeUvSphere(int rings, int segments, double radius = 1.0);
 // Open cylinder (no caps) around the y axis from y = 0 to y = height: (rings+1)·segments
 // vertices, outward normals; two boundary loops.
 TriMesh makeCylinder(int rings, int segments, double radius, double height);
+
+// The surface of revolution about the y axis of `profile` (rows: radius, height), `segments`
+// round, open at the profile's two ends; its normals point away from the axis where the profile
+// rises (makeCylinder is the straight profile).
+TriMesh makeRevolution(const std::vector<Eigen::Vector2d>& profile, int segments);
 
 // Removes every face whose centroid satisfies  n·c > offset  (a planar cut making a hole).
 TriMesh cutByPlane(const TriMesh& mesh, const Eigen::Vector3d& n, double offset);

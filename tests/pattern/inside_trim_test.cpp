@@ -12,30 +12,6 @@
 namespace s2p {
 namespace {
 
-// The surface of revolution about the y axis of the profile (r, y), `segments` round, open at
-// the profile's two ends. Faces wound so that a profile rising at growing r faces outwards.
-TriMesh revolve(const std::vector<Eigen::Vector2d>& profile, int segments) {
-  TriMesh m;
-  const int n = static_cast<int>(profile.size());
-  m.V.resize(n * segments, 3);
-  for (int i = 0; i < n; ++i)
-    for (int s = 0; s < segments; ++s) {
-      const double a = 2 * M_PI * s / segments;
-      m.V.row(i * segments + s) << profile[i].x() * std::cos(a), profile[i].y(),
-          profile[i].x() * std::sin(a);
-    }
-  m.F.resize(2 * (n - 1) * segments, 3);
-  int f = 0;
-  for (int i = 0; i + 1 < n; ++i)
-    for (int s = 0; s < segments; ++s) {
-      const int a = i * segments + s, b = i * segments + (s + 1) % segments;
-      const int c = a + segments, d = b + segments;
-      m.F.row(f++) << a, c, b;
-      m.F.row(f++) << b, c, d;
-    }
-  return m;
-}
-
 // A skirt of radius 0.15 from y = 0.3 up to 1.0, its inside seen up to y = 0.45 (radius 0.14),
 // folded at the hem; the legs' stand-in a cylinder of radius 0.1.
 std::vector<Eigen::Vector2d> skirtProfile(bool withInside) {
@@ -52,8 +28,8 @@ Eigen::VectorXi identity(int n) {
 
 TEST(InsideTrim, TheInsideSeenUnderAHemIsDroppedAndTheOuterFaceKept) {
   const TriMesh body = makeCylinder(60, 48, 0.1, 1.2);
-  const TriMesh skirt = revolve(skirtProfile(true), 96);
-  // The profile rises at r 0.15: outward normals there; the inside runs down at r 0.14.
+  const TriMesh skirt = makeRevolution(skirtProfile(true), 96);
+  // The profile rises at r 0.15 (normals away from the axis) and runs down at r 0.14 inside.
   const std::optional<InsideTrim> t =
       trimInsideSeenThroughOpenings(skirt, identity(skirt.numFaces()), body);
   ASSERT_TRUE(t.has_value());
@@ -77,7 +53,7 @@ TEST(InsideTrim, TheInsideSeenUnderAHemIsDroppedAndTheOuterFaceKept) {
 
 TEST(InsideTrim, AGarmentWithoutItsInsideIsLeftWhole) {
   const TriMesh body = makeCylinder(60, 48, 0.1, 1.2);
-  const TriMesh skirt = revolve(skirtProfile(false), 96);
+  const TriMesh skirt = makeRevolution(skirtProfile(false), 96);
   EXPECT_FALSE(trimInsideSeenThroughOpenings(skirt, identity(skirt.numFaces()), body).has_value());
   EXPECT_THROW(trimInsideSeenThroughOpenings(skirt, identity(3), body), InputError);
   EXPECT_THROW(trimInsideSeenThroughOpenings(skirt, identity(skirt.numFaces()), TriMesh{}),
