@@ -192,20 +192,20 @@ Eigen::MatrixXd smoothOnSurface(const TriMesh& mesh, const Eigen::MatrixXd& valu
 
 std::vector<bool> sharedColours(const GaussianMixture& a, const GaussianMixture& b,
                                 const Eigen::MatrixX3d& lab) {
-  const auto inside = insideComponent;
   // Pairs of one colour: each mean inside the other's ellipsoid (a broad component of blends
   // that merely covers the other garment's colour is no pair).
   std::vector<std::pair<int, int>> pairs;
   for (int i = 0; i < a.components(); ++i)
     for (int j = 0; j < b.components(); ++j)
-      if (inside(a, i, b.means.row(j).transpose()) && inside(b, j, a.means.row(i).transpose()))
+      if (insideComponent(a, i, b.means.row(j).transpose()) &&
+          insideComponent(b, j, a.means.row(i).transpose()))
         pairs.emplace_back(i, j);
   std::vector<bool> out(static_cast<size_t>(lab.rows()), false);
   if (pairs.empty()) return out;
   for (int r = 0; r < lab.rows(); ++r) {
     const Eigen::Vector3d x = lab.row(r).transpose();
     for (const auto& [i, j] : pairs)
-      if (inside(a, i, x) && inside(b, j, x)) {
+      if (insideComponent(a, i, x) && insideComponent(b, j, x)) {
         out[r] = true;
         break;
       }

@@ -636,10 +636,12 @@ class Segmenter {
     for (int r = 0; r < 4; ++r)
       for (const SurfacePoint& p : regions[r]) regionPositions_[r].push_back(p.position(scan_));
     for (const SurfacePoint& p : regions[kFoot]) footPoints_.push_back(p.position(scan_));
-    colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
-    dropSkinPointsOnGarments(regions);
     if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
     colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
+    if (dropSkinPointsOnGarments(regions)) {
+      if (!hasFootRegion_) regions[kFoot] = regions[kSkin];
+      colours_ = fitRegionColours(scan_, colour, regions, options_.colour);
+    }
     if (hasGeometry())
       for (int r = 0; r < 4; ++r) {
         const std::vector<double> o = offsetsAt(scan_, root_.offset, regions[r]);
@@ -652,13 +654,14 @@ class Segmenter {
 
   // The skin region's points that landed on a garment (a hand's points on a long sleeve's cuff:
   // a third of f2's) would teach the skin's model the garment's colour: left out
-  // (skinSamplesOfGarments), unless that leaves fewer than half of them.
-  void dropSkinPointsOnGarments(std::vector<std::vector<SurfacePoint>>& regions) {
+  // (skinSamplesOfGarments), unless that leaves fewer than half of them. True when some went
+  // (the colour models are then to be fitted again).
+  bool dropSkinPointsOnGarments(std::vector<std::vector<SurfacePoint>>& regions) {
     const std::vector<bool> strays = skinSamplesOfGarments(
         colours_.colours[kSkin], {colours_.models[kUpper], colours_.models[kLower]},
         options_.sameColourDeltaE);
     const auto n = std::count(strays.begin(), strays.end(), true);
-    if (n == 0 || 2 * static_cast<size_t>(n) > strays.size()) return;
+    if (n == 0 || 2 * static_cast<size_t>(n) > strays.size()) return false;
     std::vector<SurfacePoint> kept;
     std::vector<Vec3> keptPositions;
     for (size_t i = 0; i < strays.size(); ++i)
@@ -672,6 +675,7 @@ class Segmenter {
         "{} of the skin region's {} points have a garment's colour (a hand's points on a "
         "sleeve's cuff): left out of the skin's colour model",
         n, strays.size()));
+    return true;
   }
 
   // The step field of the offset (body_offset.h). On a large scan it is smoothed on the
